@@ -1,0 +1,162 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef DelaunayRefinementMeshQuality_h
+#define DelaunayRefinementMeshQuality_h
+
+#include "DelaunayRefinementTypes.h"
+
+#include <map>
+#include <memory>
+#include <vector>
+
+namespace delaunay_refinement
+{
+
+/** Shape measures of the tetrahedra, computed from the mesh alone. Angles in degrees. */
+struct TetrahedronQuality
+{
+  std::size_t numberOfTetrahedra{ 0 };
+  /** Largest circumradius / shortest edge over all tetrahedra. */
+  double maximumRadiusEdgeRatio{ 0.0 };
+  double minimumDihedralAngle{ 180.0 };
+  double maximumDihedralAngle{ 0.0 };
+  /** Smallest signed volume (negative = inverted). */
+  double minimumVolume{ 0.0 };
+  double totalVolume{ 0.0 };
+  /** Tetrahedra with signed volume <= 0. */
+  std::size_t invertedTetrahedra{ 0 };
+  /** Tetrahedra sharing their vertex set with another tetrahedron. */
+  std::size_t duplicateTetrahedra{ 0 };
+  /** Points not used by any tetrahedron. */
+  std::size_t unusedPoints{ 0 };
+  /** Tetrahedra with a vertex index out of range or a repeated vertex. */
+  std::size_t malformedTetrahedra{ 0 };
+  /** Smallest dihedral angle of each tetrahedron, for histograms. */
+  std::vector<double> minimumDihedralAngles;
+};
+
+DelaunayImageToMesh_EXPORT TetrahedronQuality
+                           ComputeTetrahedronQuality(const TetrahedralMesh & mesh);
+
+/** Topology and angles of a closed triangle surface. */
+struct SurfaceTopology
+{
+  std::size_t numberOfTriangles{ 0 };
+  std::size_t numberOfVertices{ 0 };
+  std::size_t numberOfEdges{ 0 };
+  /** Edges in a number of triangles other than two. */
+  std::size_t nonManifoldEdges{ 0 };
+  /** Vertices whose link (the triangles around them) is not a single cycle. */
+  std::size_t nonManifoldVertices{ 0 };
+  /** Edge-connected components. */
+  int numberOfComponents{ 0 };
+  /** Sum over components of the genus g = (2 - χ) / 2; meaningful only when the surface is a closed manifold. */
+  int totalGenus{ 0 };
+  /** Genus of each component, in no particular order. */
+  std::vector<int> componentGenera;
+  /** Smallest planar angle of any triangle, degrees. */
+  double minimumPlanarAngle{ 180.0 };
+
+  bool
+  IsClosedManifold() const
+  {
+    return nonManifoldEdges == 0 && nonManifoldVertices == 0;
+  }
+};
+
+/** Topology of the triangles `triangles` over `points` (indices into points). */
+DelaunayImageToMesh_EXPORT SurfaceTopology
+                           ComputeSurfaceTopology(const std::vector<Vector3> &                 points,
+                                                  const std::vector<std::array<uint32_t, 3>> & triangles);
+
+/** Topology of every boundary triangle of the mesh (all labels together). */
+DelaunayImageToMesh_EXPORT SurfaceTopology
+                           ComputeBoundaryTopology(const TetrahedralMesh & mesh);
+
+/** Topology of the boundary of the tetrahedra labelled `label`: every boundary triangle with `label` on
+ * one of its sides. */
+DelaunayImageToMesh_EXPORT SurfaceTopology
+                           ComputeLabelBoundaryTopology(const TetrahedralMesh & mesh, Label label);
+
+/** Point-to-triangle-surface distance queries (an AABB tree over the triangles). */
+class DelaunayImageToMesh_EXPORT TriangleSurfaceDistance
+{
+public:
+  TriangleSurfaceDistance(const std::vector<Vector3> & points, const std::vector<std::array<uint32_t, 3>> & triangles);
+  ~TriangleSurfaceDistance();
+  TriangleSurfaceDistance(const TriangleSurfaceDistance &) = delete;
+  TriangleSurfaceDistance &
+  operator=(const TriangleSurfaceDistance &) = delete;
+
+  /** Distance from `query` to the nearest triangle; +infinity if there is no triangle. */
+  double
+  Distance(const Vector3 & query) const;
+
+private:
+  struct Tree;
+  std::unique_ptr<Tree> m_Tree;
+};
+
+/** Points on every triangle, about `spacing` apart (vertices, edge points and interior points). */
+DelaunayImageToMesh_EXPORT std::vector<Vector3>
+                           SampleTriangles(const std::vector<Vector3> &                 points,
+                                           const std::vector<std::array<uint32_t, 3>> & triangles,
+                                           double                                       spacing);
+
+/** Summary of a set of distances. */
+struct DistanceStatistics
+{
+  std::size_t count{ 0 };
+  double      mean{ 0.0 };
+  double      percentile95{ 0.0 };
+  double      maximum{ 0.0 };
+};
+
+DelaunayImageToMesh_EXPORT DistanceStatistics
+                           SummarizeDistances(std::vector<double> distances);
+
+/** Two-sided distance between two triangle surfaces, each sampled at `spacing` and measured against the
+ * other's AABB tree. `fromFirst` holds first-to-second distances, `fromSecond` second-to-first. */
+struct TwoSidedDistance
+{
+  DistanceStatistics fromFirst;
+  DistanceStatistics fromSecond;
+  /** Statistics of both directions pooled; its maximum is the sampled two-sided Hausdorff distance. */
+  DistanceStatistics combined;
+};
+
+DelaunayImageToMesh_EXPORT TwoSidedDistance
+                           ComputeTwoSidedDistance(const std::vector<Vector3> &                 firstPoints,
+                                                   const std::vector<std::array<uint32_t, 3>> & firstTriangles,
+                                                   const std::vector<Vector3> &                 secondPoints,
+                                                   const std::vector<std::array<uint32_t, 3>> & secondTriangles,
+                                                   double                                       spacing);
+
+/** Shortest edge from a vertex of each kind, for Lemma 2 (feature >= δ, free >= ρδ, box >= 2δ). Only edges
+ * of the mesh's tetrahedra are seen; +infinity for a kind with no vertex. */
+struct ShortestEdgesByKind
+{
+  std::map<VertexKind, double> shortestEdge;
+};
+
+DelaunayImageToMesh_EXPORT ShortestEdgesByKind
+                           ComputeShortestEdgesByKind(const TetrahedralMesh & mesh);
+
+} // namespace delaunay_refinement
+
+#endif

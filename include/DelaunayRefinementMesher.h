@@ -1,0 +1,113 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef DelaunayRefinementMesher_h
+#define DelaunayRefinementMesher_h
+
+#include "DelaunayRefinementOracle.h"
+
+#include <cstddef>
+#include <functional>
+#include <stdexcept>
+#include <string>
+
+namespace delaunay_refinement
+{
+
+/** Parameters of the refinement (ALGORITHM.md). */
+struct RefinementParameters
+{
+  /** δ: surface sampling distance, in physical units (mm). Must be finite and > 0. */
+  double surfaceSamplingDistance{ 1.0 };
+  /** ρ: radius-edge bound. Must be finite and >= 1. Every output tetrahedron has radius-edge ratio < ρ. */
+  double radiusEdgeBound{ 2.0 };
+  /** σ: minimum dihedral angle in degrees for the R4' variant; 0 disables it. Must be in [0, 30]. */
+  double minimumDihedralAngle{ 0.0 };
+  /** Safety cap on the number of vertices of the triangulation; exceeding it throws VertexLimitExceeded. */
+  std::size_t maximumNumberOfVertices{ 10000000 };
+};
+
+/** Throws std::invalid_argument naming the parameter, its value and the valid range. */
+DelaunayImageToMesh_EXPORT void
+ValidateParameters(const RefinementParameters & parameters);
+
+/** What the refinement did, counted per rule. */
+struct RefinementStatistics
+{
+  std::size_t insertionsR1{ 0 };
+  std::size_t insertionsR2{ 0 };
+  std::size_t insertionsR3{ 0 };
+  std::size_t insertionsR4{ 0 };
+  /** Insertions by the R4' variant (minimum dihedral angle). */
+  std::size_t insertionsR4Dihedral{ 0 };
+  std::size_t insertionsE1{ 0 };
+  std::size_t insertionsE2{ 0 };
+  std::size_t insertionsE3{ 0 };
+  /** Free (and, for E1/E3, non-box-edge box) vertices removed. */
+  std::size_t deletedVertices{ 0 };
+  /** Queue entries skipped because their tetrahedron no longer existed. */
+  std::size_t staleQueueEntries{ 0 };
+  /** R2 circumcentres outside the box for which no encroached box edge or facet was found (theory: 0). */
+  std::size_t unresolvedBoxEncroachments{ 0 };
+  /** Vertices of the final triangulation, box vertices included. */
+  std::size_t triangulationVertices{ 0 };
+  double      refinementSeconds{ 0.0 };
+  double      extractionSeconds{ 0.0 };
+};
+
+/** Progress of a running refinement, reported to the observer. */
+struct RefinementProgress
+{
+  std::size_t vertices{ 0 };
+  std::size_t pendingTetrahedra{ 0 };
+  std::size_t processedTetrahedra{ 0 };
+  /** A rough, monotone estimate in [0, 1). */
+  double fraction{ 0.0 };
+};
+
+/** Called every few thousand operations; returning false aborts the refinement (RefinementAborted). */
+using ProgressObserver = std::function<bool(const RefinementProgress &)>;
+
+/** Thrown when the triangulation would exceed RefinementParameters::maximumNumberOfVertices. */
+class DelaunayImageToMesh_EXPORT VertexLimitExceeded : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
+
+/** Thrown when the progress observer asked to stop. */
+class DelaunayImageToMesh_EXPORT RefinementAborted : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
+
+/** Runs the Delaunay refinement of ALGORITHM.md on `oracle` and returns the tetrahedra whose circumcentre is
+ * inside the object, each labelled with the oracle's label there, and the boundary triangles.
+ *
+ * Throws std::invalid_argument for invalid parameters, VertexLimitExceeded, RefinementAborted. An oracle
+ * with empty ObjectBounds() gives an empty mesh. Deterministic: the same oracle and parameters give the same
+ * mesh. */
+DelaunayImageToMesh_EXPORT TetrahedralMesh
+                           RefineMesh(const LabelOracle &          oracle,
+                                      const RefinementParameters & parameters,
+                                      RefinementStatistics *       statistics = nullptr,
+                                      const ProgressObserver &     observer = {});
+
+} // namespace delaunay_refinement
+
+#endif

@@ -1,0 +1,82 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef DelaunayRefinementOracle_h
+#define DelaunayRefinementOracle_h
+
+#include "DelaunayRefinementTypes.h"
+
+namespace delaunay_refinement
+{
+
+/** A point of the surface together with its distance to the query point. */
+struct SurfacePoint
+{
+  Vector3 point{ { 0.0, 0.0, 0.0 } };
+  double  distance{ 0.0 };
+};
+
+/** \class LabelOracle
+ * \brief What the refinement knows of the object: a label-valued function of physical space.
+ *
+ * The surface (written ∂Ω in ALGORITHM.md) is where the label changes: object/background boundaries and
+ * tissue/tissue interfaces alike. Implementations must be deterministic and safe to call from one thread
+ * at a time. Outside ObjectBounds() every label must be BackgroundLabel. */
+class DelaunayImageToMesh_EXPORT LabelOracle
+{
+public:
+  virtual ~LabelOracle();
+
+  /** Label at a physical point; BackgroundLabel (0) outside every object. */
+  virtual Label
+  LabelAt(const Vector3 & point) const = 0;
+
+  /** A box holding every point with a non-zero label. Empty if there is no object. */
+  virtual AxisAlignedBox
+  ObjectBounds() const = 0;
+
+  /** The point of the surface closest to `query` and its distance. The point must lie on the surface (to
+   * SurfaceTolerance()); the distance may be approximate to the oracle's resolution. */
+  virtual SurfacePoint
+  ClosestSurfacePoint(const Vector3 & query) const = 0;
+
+  /** Distance from `query` to the surface. The default calls ClosestSurfacePoint(); oracles with a cheaper
+   * distance (a distance map) override it, since every tetrahedron asks it once. */
+  virtual double
+  DistanceToSurface(const Vector3 & query) const;
+
+  /** A point where the label changes on the segment [a, b], given LabelAt(a) != LabelAt(b). The default
+   * bisects on LabelAt() down to SurfaceTolerance() and returns the midpoint of the last bracket. */
+  virtual Vector3
+  SurfaceCrossing(const Vector3 & a, const Vector3 & b) const;
+
+  /** How far from the true surface a returned surface point may lie, in physical units. */
+  virtual double
+  SurfaceTolerance() const = 0;
+
+protected:
+  LabelOracle() = default;
+};
+
+/** Bisection of [a, b] on oracle.LabelAt(), down to `tolerance`; the labels at a and b must differ. Returns
+ * the midpoint of the final bracket, whose ends still carry LabelAt(a) and a different label. */
+DelaunayImageToMesh_EXPORT Vector3
+                           BisectLabelChange(const LabelOracle & oracle, Vector3 a, Vector3 b, double tolerance);
+
+} // namespace delaunay_refinement
+
+#endif
