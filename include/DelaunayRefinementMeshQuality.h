@@ -51,7 +51,7 @@ struct TetrahedronQuality
 };
 
 DelaunayImageToMesh_EXPORT TetrahedronQuality
-                           ComputeTetrahedronQuality(const TetrahedralMesh & mesh);
+ComputeTetrahedronQuality(const TetrahedralMesh & mesh);
 
 /** Topology and angles of a closed triangle surface. */
 struct SurfaceTopology
@@ -81,17 +81,16 @@ struct SurfaceTopology
 
 /** Topology of the triangles `triangles` over `points` (indices into points). */
 DelaunayImageToMesh_EXPORT SurfaceTopology
-                           ComputeSurfaceTopology(const std::vector<Vector3> &                 points,
-                                                  const std::vector<std::array<uint32_t, 3>> & triangles);
+ComputeSurfaceTopology(const std::vector<Vector3> & points, const std::vector<std::array<uint32_t, 3>> & triangles);
 
 /** Topology of every boundary triangle of the mesh (all labels together). */
 DelaunayImageToMesh_EXPORT SurfaceTopology
-                           ComputeBoundaryTopology(const TetrahedralMesh & mesh);
+ComputeBoundaryTopology(const TetrahedralMesh & mesh);
 
 /** Topology of the boundary of the tetrahedra labelled `label`: every boundary triangle with `label` on
  * one of its sides. */
 DelaunayImageToMesh_EXPORT SurfaceTopology
-                           ComputeLabelBoundaryTopology(const TetrahedralMesh & mesh, Label label);
+ComputeLabelBoundaryTopology(const TetrahedralMesh & mesh, Label label);
 
 /** Point-to-triangle-surface distance queries (an AABB tree over the triangles). */
 class DelaunayImageToMesh_EXPORT TriangleSurfaceDistance
@@ -114,9 +113,8 @@ private:
 
 /** Points on every triangle, about `spacing` apart (vertices, edge points and interior points). */
 DelaunayImageToMesh_EXPORT std::vector<Vector3>
-                           SampleTriangles(const std::vector<Vector3> &                 points,
-                                           const std::vector<std::array<uint32_t, 3>> & triangles,
-                                           double                                       spacing);
+SampleTriangles(const std::vector<Vector3> & points, const std::vector<std::array<uint32_t, 3>> & triangles,
+                double spacing);
 
 /** Summary of a set of distances. */
 struct DistanceStatistics
@@ -128,7 +126,7 @@ struct DistanceStatistics
 };
 
 DelaunayImageToMesh_EXPORT DistanceStatistics
-                           SummarizeDistances(std::vector<double> distances);
+SummarizeDistances(std::vector<double> distances);
 
 /** Two-sided distance between two triangle surfaces, each sampled at `spacing` and measured against the
  * other's AABB tree. `fromFirst` holds first-to-second distances, `fromSecond` second-to-first. */
@@ -141,11 +139,10 @@ struct TwoSidedDistance
 };
 
 DelaunayImageToMesh_EXPORT TwoSidedDistance
-                           ComputeTwoSidedDistance(const std::vector<Vector3> &                 firstPoints,
-                                                   const std::vector<std::array<uint32_t, 3>> & firstTriangles,
-                                                   const std::vector<Vector3> &                 secondPoints,
-                                                   const std::vector<std::array<uint32_t, 3>> & secondTriangles,
-                                                   double                                       spacing);
+ComputeTwoSidedDistance(const std::vector<Vector3> &                 firstPoints,
+                        const std::vector<std::array<uint32_t, 3>> & firstTriangles,
+                        const std::vector<Vector3> &                 secondPoints,
+                        const std::vector<std::array<uint32_t, 3>> & secondTriangles, double spacing);
 
 /** Shortest edge from a vertex of each kind, for Lemma 2 (feature >= δ, free >= ρδ, box >= 2δ). Only edges
  * of the mesh's tetrahedra are seen; +infinity for a kind with no vertex. */
@@ -155,7 +152,7 @@ struct ShortestEdgesByKind
 };
 
 DelaunayImageToMesh_EXPORT ShortestEdgesByKind
-                           ComputeShortestEdgesByKind(const TetrahedralMesh & mesh);
+ComputeShortestEdgesByKind(const TetrahedralMesh & mesh);
 
 } // namespace delaunay_refinement
 

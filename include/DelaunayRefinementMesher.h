@@ -35,7 +35,9 @@ struct RefinementParameters
   double surfaceSamplingDistance{ 1.0 };
   /** ρ: radius-edge bound. Must be finite and >= 1. Every output tetrahedron has radius-edge ratio < ρ. */
   double radiusEdgeBound{ 2.0 };
-  /** σ: minimum dihedral angle in degrees for the R4' variant; 0 disables it. Must be in [0, 30]. */
+  /** σ: minimum dihedral angle in degrees for the R4' variant; 0 (the default) disables it. Must be in [0, 30].
+   * With σ > 0 every output tetrahedron has dihedral angles >= σ, but, as in the paper, nothing is proven:
+   * termination rests on maximumNumberOfVertices and boundary angles may fall below 30°. */
   double minimumDihedralAngle{ 0.0 };
   /** Safety cap on the number of vertices of the triangulation; exceeding it throws VertexLimitExceeded. */
   std::size_t maximumNumberOfVertices{ 10000000 };
@@ -61,7 +63,7 @@ struct RefinementStatistics
   std::size_t deletedVertices{ 0 };
   /** Queue entries skipped because their tetrahedron no longer existed. */
   std::size_t staleQueueEntries{ 0 };
-  /** R2 circumcentres outside the box for which no encroached box edge or facet was found (theory: 0). */
+  /** R2 circumcentres outside the box for which the walk towards them found no box facet (expected: 0). */
   std::size_t unresolvedBoxEncroachments{ 0 };
   /** Vertices of the final triangulation, box vertices included. */
   std::size_t triangulationVertices{ 0 };
@@ -103,10 +105,8 @@ public:
  * with empty ObjectBounds() gives an empty mesh. Deterministic: the same oracle and parameters give the same
  * mesh. */
 DelaunayImageToMesh_EXPORT TetrahedralMesh
-                           RefineMesh(const LabelOracle &          oracle,
-                                      const RefinementParameters & parameters,
-                                      RefinementStatistics *       statistics = nullptr,
-                                      const ProgressObserver &     observer = {});
+RefineMesh(const LabelOracle & oracle, const RefinementParameters & parameters,
+           RefinementStatistics * statistics = nullptr, const ProgressObserver & observer = {});
 
 } // namespace delaunay_refinement
 

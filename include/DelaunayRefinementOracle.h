@@ -75,7 +75,7 @@ protected:
 /** Bisection of [a, b] on oracle.LabelAt(), down to `tolerance`; the labels at a and b must differ. Returns
  * the midpoint of the final bracket, whose ends still carry LabelAt(a) and a different label. */
 DelaunayImageToMesh_EXPORT Vector3
-                           BisectLabelChange(const LabelOracle & oracle, Vector3 a, Vector3 b, double tolerance);
+BisectLabelChange(const LabelOracle & oracle, Vector3 a, Vector3 b, double tolerance);
 
 } // namespace delaunay_refinement
 

@@ -1,0 +1,134 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef DelaunayRefinementGeometry_h
+#define DelaunayRefinementGeometry_h
+
+#include "DelaunayRefinementTypes.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace delaunay_refinement
+{
+
+constexpr double Pi = 3.14159265358979323846;
+
+inline double
+RadiansToDegrees(double radians)
+{
+  return radians * 180.0 / Pi;
+}
+
+/** Length of the shortest of the six edges. */
+inline double
+ShortestEdgeLength(const std::array<Vector3, 4> & corners)
+{
+  double shortest = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 4; ++i)
+  {
+    for (int j = i + 1; j < 4; ++j)
+    {
+      shortest = std::min(shortest, Distance(corners[i], corners[j]));
+    }
+  }
+  return shortest;
+}
+
+/** Signed volume: positive when (p1 - p0, p2 - p0, p3 - p0) is a right-handed frame. */
+inline double
+SignedVolume(const std::array<Vector3, 4> & corners)
+{
+  return Dot(corners[1] - corners[0], Cross(corners[2] - corners[0], corners[3] - corners[0])) / 6.0;
+}
+
+/** The six interior dihedral angles, in degrees. The dihedral angle at edge (i, j) is the angle between the
+ * two faces that share it, i.e. 180° minus the angle between their outward normals. */
+inline std::array<double, 6>
+DihedralAngles(const std::array<Vector3, 4> & corners)
+{
+  // Outward normal of the face opposite vertex k.
+  std::array<Vector3, 4> normals;
+  for (int k = 0; k < 4; ++k)
+  {
+    const Vector3 & a = corners[(k + 1) & 3];
+    const Vector3 & b = corners[(k + 2) & 3];
+    const Vector3 & c = corners[(k + 3) & 3];
+    Vector3         normal = Cross(b - a, c - a);
+    if (Dot(normal, corners[k] - a) > 0.0)
+    {
+      normal = -1.0 * normal;
+    }
+    normals[k] = normal;
+  }
+  std::array<double, 6> angles{};
+  int                   next = 0;
+  for (int k = 0; k < 4; ++k)
+  {
+    for (int l = k + 1; l < 4; ++l)
+    {
+      const double lengths = Norm(normals[k]) * Norm(normals[l]);
+      const double cosine = lengths > 0.0 ? std::clamp(Dot(normals[k], normals[l]) / lengths, -1.0, 1.0) : 1.0;
+      angles[next++] = 180.0 - RadiansToDegrees(std::acos(cosine));
+    }
+  }
+  return angles;
+}
+
+inline double
+MinimumDihedralAngle(const std::array<Vector3, 4> & corners)
+{
+  const std::array<double, 6> angles = DihedralAngles(corners);
+  return *std::min_element(angles.begin(), angles.end());
+}
+
+/** Circumcentre of a tetrahedron (the point equidistant from its four corners). Not finite for a flat one. */
+inline Vector3
+TetrahedronCircumcenter(const std::array<Vector3, 4> & corners)
+{
+  const Vector3 b = corners[1] - corners[0];
+  const Vector3 c = corners[2] - corners[0];
+  const Vector3 d = corners[3] - corners[0];
+  const double  denominator = 2.0 * Dot(b, Cross(c, d));
+  const Vector3 numerator = SquaredNorm(b) * Cross(c, d) + SquaredNorm(c) * Cross(d, b) + SquaredNorm(d) * Cross(b, c);
+  return corners[0] + (1.0 / denominator) * numerator;
+}
+
+/** Circumradius / shortest edge. */
+inline double
+RadiusEdgeRatio(const std::array<Vector3, 4> & corners)
+{
+  return Distance(TetrahedronCircumcenter(corners), corners[0]) / ShortestEdgeLength(corners);
+}
+
+/** The three planar angles of a triangle, in degrees. */
+inline std::array<double, 3>
+PlanarAngles(const Vector3 & a, const Vector3 & b, const Vector3 & c)
+{
+  const auto angleAt = [](const Vector3 & apex, const Vector3 & p, const Vector3 & q) {
+    const Vector3 u = p - apex;
+    const Vector3 v = q - apex;
+    const double  lengths = Norm(u) * Norm(v);
+    const double  cosine = lengths > 0.0 ? std::clamp(Dot(u, v) / lengths, -1.0, 1.0) : 1.0;
+    return RadiansToDegrees(std::acos(cosine));
+  };
+  return { angleAt(a, b, c), angleAt(b, c, a), angleAt(c, a, b) };
+}
+
+} // namespace delaunay_refinement
+
+#endif

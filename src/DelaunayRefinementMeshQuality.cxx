@@ -1,0 +1,582 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+
+// Mesh measures computed from the mesh alone, so that tests can check the refinement's guarantees without
+// trusting anything the refinement reports about itself. Plain C++ on purpose: no CGAL, so this compiles fast.
+
+#include "DelaunayRefinementMeshQuality.h"
+
+#include <algorithm>
+#include <functional>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+#include <utility>
+
+namespace delaunay_refinement
+{
+namespace
+{
+
+constexpr double Infinity = std::numeric_limits<double>::infinity();
+constexpr double DegreesPerRadian = 180.0 / 3.14159265358979323846;
+
+/** The six edges of a tetrahedron as pairs of local vertex positions. */
+constexpr std::array<std::array<int, 2>, 6> TetrahedronEdges{
+  { { { 0, 1 } }, { { 0, 2 } }, { { 0, 3 } }, { { 1, 2 } }, { { 1, 3 } }, { { 2, 3 } } }
+};
+
+/** Angle between two vectors in degrees. atan2 stays accurate near 0° and 180°, where acos of a normalised dot
+ * product loses half its digits. A zero vector gives 0°. */
+double
+AngleBetween(const Vector3 & u, const Vector3 & v)
+{
+  return std::atan2(Norm(Cross(u, v)), Dot(u, v)) * DegreesPerRadian;
+}
+
+using Tetrahedron = std::array<uint32_t, 4>;
+using Triangle = std::array<uint32_t, 3>;
+using TetrahedronCorners = std::array<Vector3, 4>;
+
+bool
+IsMalformed(const Tetrahedron & tetrahedron, std::size_t numberOfPoints)
+{
+  for (std::size_t i = 0; i < 4; ++i)
+  {
+    if (tetrahedron[i] >= numberOfPoints)
+    {
+      return true;
+    }
+    for (std::size_t j = i + 1; j < 4; ++j)
+    {
+      if (tetrahedron[i] == tetrahedron[j])
+      {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+TetrahedronCorners
+CornersOf(const std::vector<Vector3> & points, const Tetrahedron & tetrahedron)
+{
+  return { { points[tetrahedron[0]], points[tetrahedron[1]], points[tetrahedron[2]], points[tetrahedron[3]] } };
+}
+
+double
+SignedVolume(const TetrahedronCorners & p)
+{
+  return Dot(p[1] - p[0], Cross(p[2] - p[0], p[3] - p[0])) / 6.0;
+}
+
+double
+ShortestEdge(const TetrahedronCorners & p)
+{
+  double shortest = Infinity;
+  for (const auto & edge : TetrahedronEdges)
+  {
+    shortest = std::min(shortest, Distance(p[edge[0]], p[edge[1]]));
+  }
+  return shortest;
+}
+
+/** Circumradius from the closed form of the circumcentre relative to p0; +infinity for a flat tetrahedron,
+ * whose circumsphere does not exist (or is not unique). */
+double
+Circumradius(const TetrahedronCorners & p)
+{
+  const Vector3 a = p[1] - p[0];
+  const Vector3 b = p[2] - p[0];
+  const Vector3 c = p[3] - p[0];
+  const double  denominator = 2.0 * Dot(a, Cross(b, c));
+  if (denominator == 0.0)
+  {
+    return Infinity;
+  }
+  const Vector3 numerator = SquaredNorm(a) * Cross(b, c) + SquaredNorm(b) * Cross(c, a) + SquaredNorm(c) * Cross(a, b);
+  return Norm(numerator) / std::abs(denominator);
+}
+
+/** Interior dihedral angle at edge (i, j): the angle between the two other vertices seen along the edge, i.e.
+ * after projecting them onto the plane orthogonal to it. Independent of the orientation of the tetrahedron. */
+double
+DihedralAngleAtEdge(const TetrahedronCorners & p, int i, int j)
+{
+  int others[2];
+  int count = 0;
+  for (int k = 0; k < 4; ++k)
+  {
+    if (k != i && k != j)
+    {
+      others[count++] = k;
+    }
+  }
+  const Vector3 edge = p[j] - p[i];
+  const double  edgeSquaredLength = SquaredNorm(edge);
+  const auto    projectOffEdge = [&](const Vector3 & v) {
+    return edgeSquaredLength > 0.0 ? v - (Dot(v, edge) / edgeSquaredLength) * edge : v;
+  };
+  return AngleBetween(projectOffEdge(p[others[0]] - p[i]), projectOffEdge(p[others[1]] - p[i]));
+}
+
+std::pair<double, double>
+DihedralAngleRange(const TetrahedronCorners & p)
+{
+  double smallest = 180.0;
+  double largest = 0.0;
+  for (const auto & edge : TetrahedronEdges)
+  {
+    const double angle = DihedralAngleAtEdge(p, edge[0], edge[1]);
+    smallest = std::min(smallest, angle);
+    largest = std::max(largest, angle);
+  }
+  return { smallest, largest };
+}
+
+struct ArrayHash
+{
+  template <std::size_t N>
+  std::size_t
+  operator()(const std::array<uint32_t, N> & values) const
+  {
+    std::size_t hash = 0;
+    for (const uint32_t value : values)
+    {
+      hash = hash * 1000003u ^ std::hash<uint32_t>{}(value);
+    }
+    return hash;
+  }
+};
+
+/** Counts every tetrahedron whose vertex set also belongs to another tetrahedron (both members of a duplicated
+ * pair count). Malformed tetrahedra are left out: they are counted separately. */
+std::size_t
+CountDuplicateTetrahedra(const std::vector<Tetrahedron> & tetrahedra, std::size_t numberOfPoints)
+{
+  std::unordered_map<Tetrahedron, std::size_t, ArrayHash> occurrences;
+  for (const Tetrahedron & tetrahedron : tetrahedra)
+  {
+    if (!IsMalformed(tetrahedron, numberOfPoints))
+    {
+      Tetrahedron sorted = tetrahedron;
+      std::sort(sorted.begin(), sorted.end());
+      ++occurrences[sorted];
+    }
+  }
+  std::size_t duplicates = 0;
+  for (const auto & entry : occurrences)
+  {
+    if (entry.second > 1)
+    {
+      duplicates += entry.second;
+    }
+  }
+  return duplicates;
+}
+
+/** Points referenced by no tetrahedron; an in-range index of a malformed tetrahedron still counts as a use. */
+std::size_t
+CountUnusedPoints(const TetrahedralMesh & mesh)
+{
+  std::vector<bool> used(mesh.points.size(), false);
+  for (const Tetrahedron & tetrahedron : mesh.tetrahedra)
+  {
+    for (const uint32_t index : tetrahedron)
+    {
+      if (index < used.size())
+      {
+        used[index] = true;
+      }
+    }
+  }
+  return static_cast<std::size_t>(std::count(used.begin(), used.end(), false));
+}
+
+/** An undirected edge: its two vertex indices, smaller first. */
+using Edge = std::pair<uint32_t, uint32_t>;
+
+Edge
+MakeEdge(uint32_t a, uint32_t b)
+{
+  return a < b ? Edge{ a, b } : Edge{ b, a };
+}
+
+struct EdgeHash
+{
+  std::size_t
+  operator()(const Edge & edge) const
+  {
+    return std::hash<uint64_t>{}((static_cast<uint64_t>(edge.first) << 32) | edge.second);
+  }
+};
+
+using EdgeTriangleCounts = std::unordered_map<Edge, std::size_t, EdgeHash>;
+
+EdgeTriangleCounts
+CountTrianglesPerEdge(const std::vector<Triangle> & triangles)
+{
+  EdgeTriangleCounts counts;
+  for (const Triangle & triangle : triangles)
+  {
+    for (int corner = 0; corner < 3; ++corner)
+    {
+      ++counts[MakeEdge(triangle[corner], triangle[(corner + 1) % 3])];
+    }
+  }
+  return counts;
+}
+
+/** Disjoint sets with path halving; enough for component labelling. */
+class DisjointSets
+{
+public:
+  explicit DisjointSets(std::size_t size)
+    : m_Parent(size)
+  {
+    std::iota(m_Parent.begin(), m_Parent.end(), std::size_t{ 0 });
+  }
+
+  std::size_t
+  Find(std::size_t element)
+  {
+    while (m_Parent[element] != element)
+    {
+      m_Parent[element] = m_Parent[m_Parent[element]];
+      element = m_Parent[element];
+    }
+    return element;
+  }
+
+  void
+  Unite(std::size_t a, std::size_t b)
+  {
+    m_Parent[Find(a)] = Find(b);
+  }
+
+private:
+  std::vector<std::size_t> m_Parent;
+};
+
+/** Labels triangles by edge-connected component, 0..count-1 in order of first appearance. */
+std::vector<std::size_t>
+LabelEdgeConnectedComponents(const std::vector<Triangle> & triangles, std::size_t & numberOfComponents)
+{
+  DisjointSets                                    sets(triangles.size());
+  std::unordered_map<Edge, std::size_t, EdgeHash> firstTriangleOfEdge;
+  for (std::size_t t = 0; t < triangles.size(); ++t)
+  {
+    for (int corner = 0; corner < 3; ++corner)
+    {
+      const auto inserted =
+        firstTriangleOfEdge.emplace(MakeEdge(triangles[t][corner], triangles[t][(corner + 1) % 3]), t);
+      if (!inserted.second)
+      {
+        sets.Unite(t, inserted.first->second);
+      }
+    }
+  }
+  std::unordered_map<std::size_t, std::size_t> componentOfRoot;
+  std::vector<std::size_t>                     component(triangles.size());
+  for (std::size_t t = 0; t < triangles.size(); ++t)
+  {
+    component[t] = componentOfRoot.emplace(sets.Find(t), componentOfRoot.size()).first->second;
+  }
+  numberOfComponents = componentOfRoot.size();
+  return component;
+}
+
+/** Genus (2 - χ) / 2 of one component, from that component's own vertices, edges and faces. */
+int
+ComponentGenus(const std::vector<Triangle> & componentTriangles)
+{
+  std::vector<uint32_t> vertices;
+  for (const Triangle & triangle : componentTriangles)
+  {
+    vertices.insert(vertices.end(), triangle.begin(), triangle.end());
+  }
+  std::sort(vertices.begin(), vertices.end());
+  const auto numberOfVertices =
+    static_cast<long long>(std::unique(vertices.begin(), vertices.end()) - vertices.begin());
+  const auto      numberOfEdges = static_cast<long long>(CountTrianglesPerEdge(componentTriangles).size());
+  const auto      numberOfFaces = static_cast<long long>(componentTriangles.size());
+  const long long eulerCharacteristic = numberOfVertices - numberOfEdges + numberOfFaces;
+  return static_cast<int>((2 - eulerCharacteristic) / 2);
+}
+
+/** The link of a vertex v is the graph of the edges opposite v in its incident triangles. v is a manifold
+ * vertex exactly when that graph is one cycle: every link vertex has degree 2, the graph is connected, and it
+ * has at least 3 edges. A bow-tie (two cones meeting at v) gives two cycles; a boundary vertex gives a path. */
+class VertexLinks
+{
+public:
+  VertexLinks(const std::vector<Triangle> & triangles)
+  {
+    for (const Triangle & triangle : triangles)
+    {
+      for (int corner = 0; corner < 3; ++corner)
+      {
+        m_LinkEdges[triangle[corner]].push_back(MakeEdge(triangle[(corner + 1) % 3], triangle[(corner + 2) % 3]));
+      }
+    }
+  }
+
+  std::size_t
+  NumberOfVertices() const
+  {
+    return m_LinkEdges.size();
+  }
+
+  std::size_t
+  CountNonManifoldVertices() const
+  {
+    std::size_t count = 0;
+    for (const auto & entry : m_LinkEdges)
+    {
+      if (!IsSingleCycle(entry.first, entry.second))
+      {
+        ++count;
+      }
+    }
+    return count;
+  }
+
+private:
+  static bool
+  IsSingleCycle(uint32_t center, const std::vector<Edge> & linkEdges)
+  {
+    if (linkEdges.size() < 3)
+    {
+      return false;
+    }
+    std::unordered_map<uint32_t, std::vector<uint32_t>> neighbours;
+    for (const Edge & edge : linkEdges)
+    {
+      // A degenerate triangle (a repeated vertex) has no proper link edge.
+      if (edge.first == edge.second || edge.first == center || edge.second == center)
+      {
+        return false;
+      }
+      neighbours[edge.first].push_back(edge.second);
+      neighbours[edge.second].push_back(edge.first);
+    }
+    for (const auto & entry : neighbours)
+    {
+      if (entry.second.size() != 2)
+      {
+        return false;
+      }
+    }
+    // All degrees are 2, so the graph is a union of cycles; it is one cycle when a walk covers every vertex.
+    const uint32_t start = neighbours.begin()->first;
+    uint32_t       previous = start;
+    uint32_t       current = neighbours[start][0];
+    std::size_t    visited = 1;
+    while (current != start && visited <= neighbours.size())
+    {
+      const std::vector<uint32_t> & next = neighbours[current];
+      const uint32_t                following = next[0] != previous ? next[0] : next[1];
+      previous = current;
+      current = following;
+      ++visited;
+    }
+    return visited == neighbours.size();
+  }
+
+  std::unordered_map<uint32_t, std::vector<Edge>> m_LinkEdges;
+};
+
+double
+MinimumPlanarAngle(const std::vector<Vector3> & points, const std::vector<Triangle> & triangles)
+{
+  double smallest = 180.0;
+  for (const Triangle & triangle : triangles)
+  {
+    for (int corner = 0; corner < 3; ++corner)
+    {
+      const Vector3 & apex = points[triangle[corner]];
+      const Vector3   toNext = points[triangle[(corner + 1) % 3]] - apex;
+      const Vector3   toPrevious = points[triangle[(corner + 2) % 3]] - apex;
+      smallest = std::min(smallest, AngleBetween(toNext, toPrevious));
+    }
+  }
+  return smallest;
+}
+
+void
+CheckTriangleIndices(const std::vector<Vector3> & points, const std::vector<Triangle> & triangles)
+{
+  for (const Triangle & triangle : triangles)
+  {
+    for (const uint32_t index : triangle)
+    {
+      if (index >= points.size())
+      {
+        throw std::invalid_argument("ComputeSurfaceTopology: triangle vertex index " + std::to_string(index) +
+                                    " is out of range (number of points: " + std::to_string(points.size()) + ")");
+      }
+    }
+  }
+}
+
+SurfaceTopology
+ComputeTopologyOfSelectedTriangles(const TetrahedralMesh & mesh, const std::vector<bool> & selected)
+{
+  std::vector<Triangle> triangles;
+  for (std::size_t i = 0; i < mesh.boundaryTriangles.size(); ++i)
+  {
+    if (selected[i])
+    {
+      triangles.push_back(mesh.boundaryTriangles[i]);
+    }
+  }
+  return ComputeSurfaceTopology(mesh.points, triangles);
+}
+
+} // namespace
+
+TetrahedronQuality
+ComputeTetrahedronQuality(const TetrahedralMesh & mesh)
+{
+  TetrahedronQuality quality;
+  quality.numberOfTetrahedra = mesh.tetrahedra.size();
+  quality.minimumVolume = mesh.tetrahedra.empty() ? 0.0 : Infinity;
+  quality.minimumDihedralAngles.reserve(mesh.tetrahedra.size());
+  for (const Tetrahedron & tetrahedron : mesh.tetrahedra)
+  {
+    if (IsMalformed(tetrahedron, mesh.points.size()))
+    {
+      ++quality.malformedTetrahedra;
+      continue;
+    }
+    const TetrahedronCorners corners = CornersOf(mesh.points, tetrahedron);
+    const double             volume = SignedVolume(corners);
+    quality.minimumVolume = std::min(quality.minimumVolume, volume);
+    quality.totalVolume += volume;
+    if (volume <= 0.0)
+    {
+      ++quality.invertedTetrahedra;
+    }
+    quality.maximumRadiusEdgeRatio =
+      std::max(quality.maximumRadiusEdgeRatio, Circumradius(corners) / ShortestEdge(corners));
+    const auto dihedralRange = DihedralAngleRange(corners);
+    quality.minimumDihedralAngle = std::min(quality.minimumDihedralAngle, dihedralRange.first);
+    quality.maximumDihedralAngle = std::max(quality.maximumDihedralAngle, dihedralRange.second);
+    quality.minimumDihedralAngles.push_back(dihedralRange.first);
+  }
+  if (quality.malformedTetrahedra == quality.numberOfTetrahedra)
+  {
+    quality.minimumVolume = 0.0;
+  }
+  quality.duplicateTetrahedra = CountDuplicateTetrahedra(mesh.tetrahedra, mesh.points.size());
+  quality.unusedPoints = CountUnusedPoints(mesh);
+  return quality;
+}
+
+SurfaceTopology
+ComputeSurfaceTopology(const std::vector<Vector3> & points, const std::vector<std::array<uint32_t, 3>> & triangles)
+{
+  CheckTriangleIndices(points, triangles);
+  SurfaceTopology topology;
+  topology.numberOfTriangles = triangles.size();
+
+  const EdgeTriangleCounts trianglesPerEdge = CountTrianglesPerEdge(triangles);
+  topology.numberOfEdges = trianglesPerEdge.size();
+  for (const auto & entry : trianglesPerEdge)
+  {
+    if (entry.second != 2)
+    {
+      ++topology.nonManifoldEdges;
+    }
+  }
+
+  const VertexLinks links(triangles);
+  topology.numberOfVertices = links.NumberOfVertices();
+  topology.nonManifoldVertices = links.CountNonManifoldVertices();
+
+  std::size_t                        numberOfComponents = 0;
+  const std::vector<std::size_t>     componentOfTriangle = LabelEdgeConnectedComponents(triangles, numberOfComponents);
+  std::vector<std::vector<Triangle>> trianglesOfComponent(numberOfComponents);
+  for (std::size_t t = 0; t < triangles.size(); ++t)
+  {
+    trianglesOfComponent[componentOfTriangle[t]].push_back(triangles[t]);
+  }
+  topology.numberOfComponents = static_cast<int>(numberOfComponents);
+  for (const auto & componentTriangles : trianglesOfComponent)
+  {
+    topology.componentGenera.push_back(ComponentGenus(componentTriangles));
+    topology.totalGenus += topology.componentGenera.back();
+  }
+
+  topology.minimumPlanarAngle = MinimumPlanarAngle(points, triangles);
+  return topology;
+}
+
+SurfaceTopology
+ComputeBoundaryTopology(const TetrahedralMesh & mesh)
+{
+  return ComputeSurfaceTopology(mesh.points, mesh.boundaryTriangles);
+}
+
+SurfaceTopology
+ComputeLabelBoundaryTopology(const TetrahedralMesh & mesh, Label label)
+{
+  std::vector<bool> touchesLabel(mesh.boundaryTriangles.size(), false);
+  for (std::size_t i = 0; i < mesh.boundaryTriangles.size() && i < mesh.boundaryTriangleLabels.size(); ++i)
+  {
+    touchesLabel[i] = mesh.boundaryTriangleLabels[i][0] == label || mesh.boundaryTriangleLabels[i][1] == label;
+  }
+  return ComputeTopologyOfSelectedTriangles(mesh, touchesLabel);
+}
+
+ShortestEdgesByKind
+ComputeShortestEdgesByKind(const TetrahedralMesh & mesh)
+{
+  ShortestEdgesByKind result;
+  for (const VertexKind kind : { VertexKind::BoxFace, VertexKind::BoxEdge, VertexKind::Feature, VertexKind::Free })
+  {
+    result.shortestEdge[kind] = Infinity;
+  }
+  const auto updateKindOf = [&](uint32_t vertex, double length) {
+    if (vertex < mesh.pointKinds.size())
+    {
+      double & shortest = result.shortestEdge[mesh.pointKinds[vertex]];
+      shortest = std::min(shortest, length);
+    }
+  };
+  for (const Tetrahedron & tetrahedron : mesh.tetrahedra)
+  {
+    if (IsMalformed(tetrahedron, mesh.points.size()))
+    {
+      continue;
+    }
+    for (const auto & edge : TetrahedronEdges)
+    {
+      const uint32_t a = tetrahedron[edge[0]];
+      const uint32_t b = tetrahedron[edge[1]];
+      const double   length = Distance(mesh.points[a], mesh.points[b]);
+      updateKindOf(a, length);
+      updateKindOf(b, length);
+    }
+  }
+  return result;
+}
+
+} // namespace delaunay_refinement

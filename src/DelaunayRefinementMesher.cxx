@@ -1,0 +1,917 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "DelaunayRefinementMesher.h"
+#include "DelaunayRefinementGeometry.h"
+#include "DelaunayRefinementSpatialGrid.h"
+
+#include <CGAL/Delaunay_triangulation_3.h>
+#include <CGAL/Delaunay_triangulation_cell_base_3.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Robust_weighted_circumcenter_filtered_traits_3.h>
+#include <CGAL/Triangulation_data_structure_3.h>
+#include <CGAL/Triangulation_vertex_base_with_info_3.h>
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+#include <optional>
+#include <queue>
+#include <sstream>
+#include <unordered_map>
+
+namespace delaunay_refinement
+{
+namespace
+{
+
+/** Exact predicates; circumcentres in floating point with an exact fallback when the floating-point
+ * denominator vanishes, which nearly flat tetrahedra of symmetric surface samples do produce. */
+using Kernel = CGAL::Robust_circumcenter_filtered_traits_3<CGAL::Exact_predicates_inexact_constructions_kernel>;
+using CgalPoint = Kernel::Point_3;
+
+struct VertexData
+{
+  VertexKind kind{ VertexKind::Free };
+  /** Insertion order: sorts vertices deterministically where a container's order would not. */
+  uint64_t id{ 0 };
+  /** Index in the output mesh, assigned during extraction. */
+  uint32_t outputIndex{ std::numeric_limits<uint32_t>::max() };
+};
+
+/** What every rule asks of a tetrahedron, computed once when the tetrahedron is created. */
+struct CellCache
+{
+  Vector3 circumcenter{ { 0.0, 0.0, 0.0 } };
+  double  squaredRadius{ 0.0 };
+  double  surfaceDistance{ 0.0 };
+  Label   label{ BackgroundLabel };
+  /** Unique per evaluated cell. CGAL recycles freed cells, so a queue entry is current only while its cell
+   * is in use and still carries the stamp it was queued with. (CGAL's erase counters would do, but GCC's
+   * lifetime dead-store elimination drops the counter's stores made before a slot is reconstructed.) */
+  uint64_t stamp{ 0 };
+};
+
+/** A Delaunay cell that carries the rules' cache. */
+template <class GeometricTraits, class CellBase = CGAL::Delaunay_triangulation_cell_base_3<GeometricTraits>>
+class RefinementCellBase : public CellBase
+{
+public:
+  template <class Tds>
+  struct Rebind_TDS
+  {
+    using OtherCellBase = typename CellBase::template Rebind_TDS<Tds>::Other;
+    using Other = RefinementCellBase<GeometricTraits, OtherCellBase>;
+  };
+
+  using CellBase::CellBase;
+
+  CellCache cache;
+};
+
+using VertexBase = CGAL::Triangulation_vertex_base_with_info_3<VertexData, Kernel>;
+using CellBase = RefinementCellBase<Kernel>;
+using DataStructure = CGAL::Triangulation_data_structure_3<VertexBase, CellBase>;
+using Triangulation = CGAL::Delaunay_triangulation_3<Kernel, DataStructure>;
+using VertexHandle = Triangulation::Vertex_handle;
+using CellHandle = Triangulation::Cell_handle;
+
+Vector3
+ToVector(const CgalPoint & point)
+{
+  return { point.x(), point.y(), point.z() };
+}
+
+CgalPoint
+ToCgal(const Vector3 & point)
+{
+  return { point[0], point[1], point[2] };
+}
+
+std::string
+DescribeValue(double value)
+{
+  std::ostringstream stream;
+  stream.precision(17);
+  stream << value;
+  return stream.str();
+}
+
+/** Rules, in the order ALGORITHM.md checks them. */
+enum class Rule
+{
+  R1,
+  R2,
+  R3,
+  R4,
+  R4Dihedral
+};
+
+/** A rule that applies to a tetrahedron, with the point it wants inserted. */
+struct Action
+{
+  Rule    rule;
+  Vector3 point;
+};
+
+/** Queue levels: surface work first (its feature insertions delete nearby free vertices, so quality work
+ * done before it would be wasted), then quality work. */
+enum class QueueLevel : int
+{
+  Surface = 0,
+  Quality = 1
+};
+
+struct QueueEntry
+{
+  CellHandle cell;
+  uint64_t   stamp;
+  QueueLevel level;
+  double     squaredRadius;
+  uint64_t   sequence;
+};
+
+/** Largest tetrahedra first within a level, then first-come first-served, for determinism. */
+struct QueueEntryOrder
+{
+  bool
+  operator()(const QueueEntry & a, const QueueEntry & b) const
+  {
+    if (a.level != b.level)
+    {
+      return a.level > b.level;
+    }
+    if (a.squaredRadius != b.squaredRadius)
+    {
+      return a.squaredRadius < b.squaredRadius;
+    }
+    return a.sequence > b.sequence;
+  }
+};
+
+/** One of the 12 edges of the bounding box, with the positions of the box-edge vertices along it. */
+struct BoxEdge
+{
+  int     axis{ 0 };
+  Vector3 origin{ { 0.0, 0.0, 0.0 } };
+  /** Sorted coordinates, along `axis`, of the vertices on this edge (its two corners included). */
+  std::vector<double> stations;
+
+  Vector3
+  PointAt(double station) const
+  {
+    Vector3 point = origin;
+    point[axis] = station;
+    return point;
+  }
+};
+
+/** A box-edge subsegment: the part of a box edge between two consecutive vertices on it. */
+struct BoxSubsegment
+{
+  std::size_t edgeIndex;
+  Vector3     midpoint;
+  double      squaredRadius;
+};
+
+class Refiner
+{
+public:
+  Refiner(const LabelOracle & oracle, const RefinementParameters & parameters, const ProgressObserver & observer)
+    : m_Oracle(oracle)
+    , m_Parameters(parameters)
+    , m_Observer(observer)
+    , m_Delta(parameters.surfaceSamplingDistance)
+    , m_FeatureVertices(parameters.surfaceSamplingDistance)
+    , m_FreeVertices(2.0 * parameters.surfaceSamplingDistance)
+  {}
+
+  TetrahedralMesh
+  Run(RefinementStatistics & statistics)
+  {
+    const AxisAlignedBox objectBounds = m_Oracle.ObjectBounds();
+    if (objectBounds.IsEmpty())
+    {
+      return {};
+    }
+    const auto refinementStart = std::chrono::steady_clock::now();
+    CreateBoundingBox(objectBounds);
+    RefineUntilNoRuleApplies();
+    const auto      extractionStart = std::chrono::steady_clock::now();
+    TetrahedralMesh mesh = ExtractMesh();
+    const auto      end = std::chrono::steady_clock::now();
+
+    m_Statistics.triangulationVertices = m_Triangulation.number_of_vertices();
+    m_Statistics.refinementSeconds = std::chrono::duration<double>(extractionStart - refinementStart).count();
+    m_Statistics.extractionSeconds = std::chrono::duration<double>(end - extractionStart).count();
+    statistics = m_Statistics;
+    return mesh;
+  }
+
+private:
+  // ---- Set-up -------------------------------------------------------------------------------------------
+
+  /** A box no point of which is closer than 2√2·δ to the surface: the object's bounds grown by 3δ. */
+  void
+  CreateBoundingBox(const AxisAlignedBox & objectBounds)
+  {
+    const double margin = 3.0 * m_Delta;
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      m_Box.lower[axis] = objectBounds.lower[axis] - margin;
+      m_Box.upper[axis] = objectBounds.upper[axis] + margin;
+    }
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      for (int corner = 0; corner < 4; ++corner)
+      {
+        BoxEdge edge;
+        edge.axis = axis;
+        const int firstOther = (axis + 1) % 3;
+        const int secondOther = (axis + 2) % 3;
+        edge.origin[axis] = m_Box.lower[axis];
+        edge.origin[firstOther] = (corner & 1) ? m_Box.upper[firstOther] : m_Box.lower[firstOther];
+        edge.origin[secondOther] = (corner & 2) ? m_Box.upper[secondOther] : m_Box.lower[secondOther];
+        edge.stations = { m_Box.lower[axis], m_Box.upper[axis] };
+        m_BoxEdges.push_back(edge);
+      }
+    }
+    std::vector<CgalPoint> corners;
+    for (int corner = 0; corner < 8; ++corner)
+    {
+      corners.emplace_back((corner & 1) ? m_Box.upper[0] : m_Box.lower[0],
+                           (corner & 2) ? m_Box.upper[1] : m_Box.lower[1],
+                           (corner & 4) ? m_Box.upper[2] : m_Box.lower[2]);
+    }
+    CellHandle hint;
+    for (const CgalPoint & corner : corners)
+    {
+      VertexHandle vertex = m_Triangulation.insert(corner, hint);
+      vertex->info().kind = VertexKind::BoxEdge;
+      vertex->info().id = m_NextVertexId++;
+      hint = vertex->cell();
+    }
+    std::vector<CellHandle> cells;
+    for (auto cell = m_Triangulation.finite_cells_begin(); cell != m_Triangulation.finite_cells_end(); ++cell)
+    {
+      cells.push_back(cell);
+    }
+    EnqueueNewCells(cells);
+  }
+
+  // ---- Cell evaluation ----------------------------------------------------------------------------------
+
+  Vector3
+  PointOf(VertexHandle vertex) const
+  {
+    return ToVector(vertex->point());
+  }
+
+  std::array<Vector3, 4>
+  CornersOf(CellHandle cell) const
+  {
+    return { PointOf(cell->vertex(0)), PointOf(cell->vertex(1)), PointOf(cell->vertex(2)), PointOf(cell->vertex(3)) };
+  }
+
+  void
+  ComputeCache(CellHandle cell)
+  {
+    CellCache &                  cache = cell->cache;
+    const std::array<Vector3, 4> corners = CornersOf(cell);
+    cache.circumcenter = ToVector(m_Circumcenter(
+      cell->vertex(0)->point(), cell->vertex(1)->point(), cell->vertex(2)->point(), cell->vertex(3)->point()));
+    cache.squaredRadius = SquaredNorm(cache.circumcenter - corners[0]);
+    cache.label = m_Oracle.LabelAt(cache.circumcenter);
+    cache.surfaceDistance = m_Oracle.DistanceToSurface(cache.circumcenter);
+    cache.stamp = ++m_LastStamp;
+  }
+
+  Label
+  LabelBeyondFacet(CellHandle cell, int facet) const
+  {
+    const CellHandle neighbor = cell->neighbor(facet);
+    return m_Triangulation.is_infinite(neighbor) ? BackgroundLabel : neighbor->cache.label;
+  }
+
+  bool
+  IsIntersecting(const CellCache & cache) const
+  {
+    return cache.surfaceDistance * cache.surfaceDistance <= cache.squaredRadius;
+  }
+
+  bool
+  HasLabelChangeAcrossAFacet(CellHandle cell) const
+  {
+    for (int facet = 0; facet < 4; ++facet)
+    {
+      if (LabelBeyondFacet(cell, facet) != cell->cache.label)
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  bool
+  IsBadlyShaped(CellHandle cell) const
+  {
+    const std::array<Vector3, 4> corners = CornersOf(cell);
+    const double                 shortestEdge = ShortestEdgeLength(corners);
+    const double                 radius = std::sqrt(cell->cache.squaredRadius);
+    if (radius >= m_Parameters.radiusEdgeBound * shortestEdge)
+    {
+      return true;
+    }
+    return IsSliver(corners);
+  }
+
+  /** Which queue a tetrahedron belongs in, or none when no rule can ever apply to it while it exists. */
+  std::optional<QueueLevel>
+  Classify(CellHandle cell) const
+  {
+    if (IsIntersecting(cell->cache) || HasLabelChangeAcrossAFacet(cell))
+    {
+      return QueueLevel::Surface;
+    }
+    if (cell->cache.label != BackgroundLabel && IsBadlyShaped(cell))
+    {
+      return QueueLevel::Quality;
+    }
+    return std::nullopt;
+  }
+
+  void
+  Enqueue(CellHandle cell)
+  {
+    const std::optional<QueueLevel> level = Classify(cell);
+    if (level)
+    {
+      m_Queue.push({ cell, cell->cache.stamp, *level, cell->cache.squaredRadius, m_NextSequence++ });
+    }
+  }
+
+  /** Caches first, then classification: classifying looks at the neighbours' labels. */
+  void
+  EnqueueNewCells(const std::vector<CellHandle> & cells)
+  {
+    for (CellHandle cell : cells)
+    {
+      if (!m_Triangulation.is_infinite(cell))
+      {
+        ComputeCache(cell);
+      }
+    }
+    for (CellHandle cell : cells)
+    {
+      if (!m_Triangulation.is_infinite(cell))
+      {
+        Enqueue(cell);
+      }
+    }
+  }
+
+  // ---- Rules --------------------------------------------------------------------------------------------
+
+  /** R1, R2, R3, R4 (and R4'), checked in that order: the first that applies. */
+  std::optional<Action>
+  FindApplicableRule(CellHandle cell) const
+  {
+    const CellCache & cache = cell->cache;
+    if (IsIntersecting(cache))
+    {
+      const SurfacePoint closest = m_Oracle.ClosestSurfacePoint(cache.circumcenter);
+      if (!m_FeatureVertices.AnyWithin(closest.point, m_Delta))
+      {
+        return Action{ Rule::R1, closest.point };
+      }
+      if (cache.squaredRadius >= 4.0 * m_Delta * m_Delta)
+      {
+        return Action{ Rule::R2, cache.circumcenter };
+      }
+    }
+    if (const std::optional<Vector3> surfaceBallCenter = LargeSurfaceBallCenter(cell))
+    {
+      return Action{ Rule::R3, *surfaceBallCenter };
+    }
+    if (cache.label != BackgroundLabel)
+    {
+      const std::array<Vector3, 4> corners = CornersOf(cell);
+      if (std::sqrt(cache.squaredRadius) >= m_Parameters.radiusEdgeBound * ShortestEdgeLength(corners))
+      {
+        return Action{ Rule::R4, cache.circumcenter };
+      }
+      if (IsSliver(corners))
+      {
+        return Action{ Rule::R4Dihedral, cache.circumcenter };
+      }
+    }
+    return std::nullopt;
+  }
+
+  /** R4' (the paper's variant, on when σ > 0): a dihedral angle below σ. Like the paper, every such sliver
+   * with its circumcentre inside is split, so the output's dihedral angles are >= σ. The paper proves nothing
+   * for R4': termination rests on the vertex cap, and its free vertices may come closer than δ to others,
+   * so the 30° bound on boundary angles (Theorem 2) is not guaranteed while σ > 0. */
+  bool
+  IsSliver(const std::array<Vector3, 4> & corners) const
+  {
+    return m_Parameters.minimumDihedralAngle > 0.0 && MinimumDihedralAngle(corners) < m_Parameters.minimumDihedralAngle;
+  }
+
+  /** The far end of the Voronoi ray dual to a convex-hull facet: beyond the box, so labelled background. */
+  Vector3
+  FarEndOfVoronoiRay(CellHandle cell, int facet) const
+  {
+    const std::array<Vector3, 4> corners = CornersOf(cell);
+    const Vector3 &              a = corners[(facet + 1) & 3];
+    const Vector3 &              b = corners[(facet + 2) & 3];
+    const Vector3 &              c = corners[(facet + 3) & 3];
+    Vector3                      normal = Cross(b - a, c - a);
+    if (Dot(normal, corners[facet] - a) > 0.0)
+    {
+      normal = -1.0 * normal;
+    }
+    const double boxDiagonal = Distance(m_Box.lower, m_Box.upper);
+    return cell->cache.circumcenter + (2.0 * boxDiagonal / Norm(normal)) * normal;
+  }
+
+  /** R3: the centre of the largest surface ball of radius >= δ among the cell's restricted facets. */
+  std::optional<Vector3>
+  LargeSurfaceBallCenter(CellHandle cell) const
+  {
+    std::optional<Vector3> best;
+    double                 bestSquaredRadius = m_Delta * m_Delta;
+    for (int facet = 0; facet < 4; ++facet)
+    {
+      const Label otherLabel = LabelBeyondFacet(cell, facet);
+      if (otherLabel == cell->cache.label)
+      {
+        continue;
+      }
+      const CellHandle neighbor = cell->neighbor(facet);
+      const Vector3    otherEnd =
+        m_Triangulation.is_infinite(neighbor) ? FarEndOfVoronoiRay(cell, facet) : neighbor->cache.circumcenter;
+      const Vector3 center = m_Oracle.SurfaceCrossing(cell->cache.circumcenter, otherEnd);
+      const double  squaredRadius = SquaredNorm(center - PointOf(cell->vertex((facet + 1) & 3)));
+      if (squaredRadius >= bestSquaredRadius)
+      {
+        bestSquaredRadius = squaredRadius;
+        best = center;
+      }
+    }
+    return best;
+  }
+
+  // ---- Insertion and deletion ---------------------------------------------------------------------------
+
+  void
+  RequireRoomForAVertex() const
+  {
+    if (m_Triangulation.number_of_vertices() >= m_Parameters.maximumNumberOfVertices)
+    {
+      throw VertexLimitExceeded("Delaunay refinement reached maximumNumberOfVertices = " +
+                                std::to_string(m_Parameters.maximumNumberOfVertices) +
+                                " vertices before every rule was satisfied; raise the limit or the surface sampling "
+                                "distance (delta = " +
+                                DescribeValue(m_Delta) + ")");
+    }
+  }
+
+  /** Inserts `point`; returns no handle when the point is already a vertex. */
+  std::optional<VertexHandle>
+  InsertVertex(const Vector3 & point, VertexKind kind, CellHandle hint)
+  {
+    RequireRoomForAVertex();
+    const std::size_t  verticesBefore = m_Triangulation.number_of_vertices();
+    const VertexHandle vertex = m_Triangulation.insert(ToCgal(point), hint);
+    if (m_Triangulation.number_of_vertices() == verticesBefore)
+    {
+      return std::nullopt;
+    }
+    vertex->info().kind = kind;
+    vertex->info().id = m_NextVertexId++;
+    if (kind == VertexKind::Feature)
+    {
+      m_FeatureVertices.Insert(point, point);
+    }
+    else if (kind == VertexKind::Free)
+    {
+      m_FreeVertices.Insert(point, vertex);
+    }
+    else if (kind == VertexKind::BoxFace)
+    {
+      m_BoxFaceVertices.push_back(vertex);
+    }
+    m_NewCells.clear();
+    m_Triangulation.incident_cells(vertex, std::back_inserter(m_NewCells));
+    EnqueueNewCells(m_NewCells);
+    return vertex;
+  }
+
+  void
+  RemoveVertex(VertexHandle vertex)
+  {
+    if (vertex->info().kind == VertexKind::Free)
+    {
+      m_FreeVertices.Remove(PointOf(vertex), vertex);
+    }
+    else
+    {
+      m_BoxFaceVertices.erase(std::find(m_BoxFaceVertices.begin(), m_BoxFaceVertices.end(), vertex));
+    }
+    m_NewCells.clear();
+    m_Triangulation.remove_and_give_new_cells(vertex, std::back_inserter(m_NewCells));
+    ++m_Statistics.deletedVertices;
+    EnqueueNewCells(m_NewCells);
+  }
+
+  /** Removes, in insertion order, the vertices of the given kinds strictly inside the ball. */
+  void
+  EmptyBall(const Vector3 & center, double radius, bool alsoBoxFaceVertices)
+  {
+    std::vector<VertexHandle> victims;
+    m_FreeVertices.ForEachWithin(center, radius, [&](const VertexHandle & vertex) { victims.push_back(vertex); });
+    if (alsoBoxFaceVertices)
+    {
+      for (const VertexHandle & vertex : m_BoxFaceVertices)
+      {
+        if (SquaredNorm(PointOf(vertex) - center) < radius * radius)
+        {
+          victims.push_back(vertex);
+        }
+      }
+    }
+    std::sort(victims.begin(), victims.end(), [](const VertexHandle & a, const VertexHandle & b) {
+      return a->info().id < b->info().id;
+    });
+    for (const VertexHandle & vertex : victims)
+    {
+      RemoveVertex(vertex);
+    }
+  }
+
+  /** R1 and R3: a feature vertex, then deletion of the free vertices closer than 2δ to it. */
+  bool
+  InsertFeatureVertex(const Vector3 & point, CellHandle hint)
+  {
+    if (!InsertVertex(point, VertexKind::Feature, hint))
+    {
+      return false;
+    }
+    EmptyBall(point, 2.0 * m_Delta, false);
+    return true;
+  }
+
+  bool
+  IsStrictlyInsideBox(const Vector3 & point) const
+  {
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      if (!(point[axis] > m_Box.lower[axis] && point[axis] < m_Box.upper[axis]))
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  /** The box-edge subsegment whose open diametral ball holds `point`, if any. Only the subsegment over
+   * which the point projects can hold it, so each edge needs one binary search. */
+  std::optional<BoxSubsegment>
+  FindEncroachedBoxSubsegment(const Vector3 & point) const
+  {
+    for (std::size_t edgeIndex = 0; edgeIndex < m_BoxEdges.size(); ++edgeIndex)
+    {
+      const BoxEdge &             edge = m_BoxEdges[edgeIndex];
+      const std::vector<double> & stations = edge.stations;
+      auto                        next = std::upper_bound(stations.begin(), stations.end(), point[edge.axis]);
+      if (next == stations.begin() || next == stations.end())
+      {
+        continue;
+      }
+      const double  start = *(next - 1);
+      const double  halfLength = 0.5 * (*next - start);
+      const Vector3 midpoint = edge.PointAt(start + halfLength);
+      if (SquaredNorm(point - midpoint) < halfLength * halfLength)
+      {
+        return BoxSubsegment{ edgeIndex, midpoint, halfLength * halfLength };
+      }
+    }
+    return std::nullopt;
+  }
+
+  /** The box facet that stands between the tetrahedron and its circumcentre `point` (on or outside the box):
+   * the convex-hull facet where a walk from the tetrahedron towards the point leaves the triangulation. Its
+   * diametral ball covers the part of the tetrahedron's circumsphere inside the box (the paper's Fig. 1b),
+   * although it need not hold the point itself. Returns the facet's circumcentre and squared circumradius. */
+  std::optional<std::pair<Vector3, double>>
+  FindBoxFacetToward(const Vector3 & point, CellHandle cell) const
+  {
+    const std::array<Vector3, 4> corners = CornersOf(cell);
+    const Vector3                centroid = 0.25 * (corners[0] + corners[1] + corners[2] + corners[3]);
+    // A point on the box would be located on the hull itself; nudge it outwards along the walk.
+    const Vector3              outward = point - centroid;
+    const Vector3              target = point + (1e-9 * Distance(m_Box.lower, m_Box.upper) / Norm(outward)) * outward;
+    Triangulation::Locate_type locateType;
+    int                        vertexIndex = 0;
+    int                        secondVertexIndex = 0;
+    const CellHandle located = m_Triangulation.locate(ToCgal(target), locateType, vertexIndex, secondVertexIndex, cell);
+    if (locateType != Triangulation::OUTSIDE_CONVEX_HULL)
+    {
+      return std::nullopt;
+    }
+    const int         infiniteIndex = located->index(m_Triangulation.infinite_vertex());
+    const CgalPoint & a = located->vertex((infiniteIndex + 1) & 3)->point();
+    const CgalPoint & b = located->vertex((infiniteIndex + 2) & 3)->point();
+    const CgalPoint & c = located->vertex((infiniteIndex + 3) & 3)->point();
+    Vector3           center = ToVector(m_Circumcenter(a, b, c));
+    SnapOntoFacePlane(center, { ToVector(a), ToVector(b), ToVector(c) });
+    return std::make_pair(center, SquaredNorm(center - ToVector(a)));
+  }
+
+  /** A circumcentre of a triangle on a box face lies on that face: make it so exactly, in the face's
+   * coordinate, and keep it within the face. */
+  void
+  SnapOntoFacePlane(Vector3 & center, const std::array<Vector3, 3> & triangle) const
+  {
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      if (triangle[0][axis] == triangle[1][axis] && triangle[1][axis] == triangle[2][axis])
+      {
+        center[axis] = triangle[0][axis];
+      }
+      center[axis] = std::clamp(center[axis], m_Box.lower[axis], m_Box.upper[axis]);
+    }
+  }
+
+  /** The emptied ball may have swallowed any nearby cell, so the insertion locates from scratch. */
+  bool
+  SplitBoxSubsegment(const BoxSubsegment & subsegment)
+  {
+    EmptyBall(subsegment.midpoint, std::sqrt(subsegment.squaredRadius), true);
+    BoxEdge &    edge = m_BoxEdges[subsegment.edgeIndex];
+    const double station = subsegment.midpoint[edge.axis];
+    edge.stations.insert(std::upper_bound(edge.stations.begin(), edge.stations.end(), station), station);
+    return InsertVertex(subsegment.midpoint, VertexKind::BoxEdge, CellHandle()).has_value();
+  }
+
+  /** E1-E3: what R2 does instead when the circumcentre it wants is on or outside the box. */
+  bool
+  ProtectBox(const Vector3 & circumcenter, CellHandle cell)
+  {
+    if (const std::optional<BoxSubsegment> subsegment = FindEncroachedBoxSubsegment(circumcenter))
+    {
+      ++m_Statistics.insertionsE1;
+      return SplitBoxSubsegment(*subsegment);
+    }
+    const std::optional<std::pair<Vector3, double>> facet = FindBoxFacetToward(circumcenter, cell);
+    if (!facet)
+    {
+      ++m_Statistics.unresolvedBoxEncroachments;
+      return false;
+    }
+    const Vector3 & facetCenter = facet->first;
+    if (const std::optional<BoxSubsegment> subsegment = FindEncroachedBoxSubsegment(facetCenter))
+    {
+      ++m_Statistics.insertionsE3;
+      return SplitBoxSubsegment(*subsegment);
+    }
+    ++m_Statistics.insertionsE2;
+    EmptyBall(facetCenter, std::sqrt(facet->second), false);
+    return InsertVertex(facetCenter, VertexKind::BoxFace, CellHandle()).has_value();
+  }
+
+  bool
+  Perform(const Action & action, CellHandle cell)
+  {
+    switch (action.rule)
+    {
+      case Rule::R1:
+        ++m_Statistics.insertionsR1;
+        return InsertFeatureVertex(action.point, cell);
+      case Rule::R2:
+        if (!IsStrictlyInsideBox(action.point))
+        {
+          return ProtectBox(action.point, cell);
+        }
+        ++m_Statistics.insertionsR2;
+        return InsertVertex(action.point, VertexKind::Free, cell).has_value();
+      case Rule::R3:
+        ++m_Statistics.insertionsR3;
+        return InsertFeatureVertex(action.point, cell);
+      case Rule::R4:
+        ++m_Statistics.insertionsR4;
+        return InsertVertex(action.point, VertexKind::Free, cell).has_value();
+      case Rule::R4Dihedral:
+        ++m_Statistics.insertionsR4Dihedral;
+        return InsertVertex(action.point, VertexKind::Free, cell).has_value();
+    }
+    return false;
+  }
+
+  // ---- Main loop ----------------------------------------------------------------------------------------
+
+  bool
+  IsAlive(const QueueEntry & entry) const
+  {
+    return m_Triangulation.tds().cells().is_used(entry.cell) && entry.cell->cache.stamp == entry.stamp;
+  }
+
+  void
+  RefineUntilNoRuleApplies()
+  {
+    std::size_t processed = 0;
+    while (!m_Queue.empty())
+    {
+      const QueueEntry entry = m_Queue.top();
+      m_Queue.pop();
+      if (!IsAlive(entry))
+      {
+        ++m_Statistics.staleQueueEntries;
+        continue;
+      }
+      if (++processed % ProgressInterval == 0)
+      {
+        ReportProgress(processed);
+      }
+      const std::optional<Action> action = FindApplicableRule(entry.cell);
+      if (!action)
+      {
+        continue;
+      }
+      const bool inserted = Perform(*action, entry.cell);
+      // A tetrahedron that survives its own refinement (the new point fell on its circumsphere) is looked at
+      // again; one whose point could not be inserted is given up, or it would be retried forever.
+      if (inserted && IsAlive(entry))
+      {
+        Enqueue(entry.cell);
+      }
+    }
+    ReportProgress(processed);
+  }
+
+  void
+  ReportProgress(std::size_t processed)
+  {
+    if (!m_Observer)
+    {
+      return;
+    }
+    RefinementProgress progress;
+    progress.vertices = m_Triangulation.number_of_vertices();
+    progress.pendingTetrahedra = m_Queue.size();
+    progress.processedTetrahedra = processed;
+    const double estimate = static_cast<double>(processed) / static_cast<double>(processed + m_Queue.size() + 1);
+    m_ProgressFraction = std::max(m_ProgressFraction, std::min(estimate, 0.999));
+    progress.fraction = m_ProgressFraction;
+    if (!m_Observer(progress))
+    {
+      throw RefinementAborted("Delaunay refinement aborted by the progress observer");
+    }
+  }
+
+  // ---- Output -------------------------------------------------------------------------------------------
+
+  uint32_t
+  OutputIndexOf(VertexHandle vertex, TetrahedralMesh & mesh)
+  {
+    uint32_t & index = vertex->info().outputIndex;
+    if (index == std::numeric_limits<uint32_t>::max())
+    {
+      index = static_cast<uint32_t>(mesh.points.size());
+      mesh.points.push_back(PointOf(vertex));
+      mesh.pointKinds.push_back(vertex->info().kind);
+    }
+    return index;
+  }
+
+  /** The facet's vertices ordered so that its normal points away from the cell. */
+  std::array<uint32_t, 3>
+  OutwardFacet(CellHandle cell, int facet, TetrahedralMesh & mesh)
+  {
+    std::array<VertexHandle, 3> vertices{ cell->vertex((facet + 1) & 3),
+                                          cell->vertex((facet + 2) & 3),
+                                          cell->vertex((facet + 3) & 3) };
+    const Vector3               a = PointOf(vertices[0]);
+    const Vector3               normal = Cross(PointOf(vertices[1]) - a, PointOf(vertices[2]) - a);
+    if (Dot(normal, PointOf(cell->vertex(facet)) - a) > 0.0)
+    {
+      std::swap(vertices[1], vertices[2]);
+    }
+    return { OutputIndexOf(vertices[0], mesh), OutputIndexOf(vertices[1], mesh), OutputIndexOf(vertices[2], mesh) };
+  }
+
+  TetrahedralMesh
+  ExtractMesh()
+  {
+    TetrahedralMesh mesh;
+    for (auto cell = m_Triangulation.finite_cells_begin(); cell != m_Triangulation.finite_cells_end(); ++cell)
+    {
+      const Label label = cell->cache.label;
+      if (label == BackgroundLabel)
+      {
+        continue;
+      }
+      mesh.tetrahedra.push_back({ OutputIndexOf(cell->vertex(0), mesh),
+                                  OutputIndexOf(cell->vertex(1), mesh),
+                                  OutputIndexOf(cell->vertex(2), mesh),
+                                  OutputIndexOf(cell->vertex(3), mesh) });
+      mesh.tetrahedronLabels.push_back(label);
+      for (int facet = 0; facet < 4; ++facet)
+      {
+        const Label otherLabel = LabelBeyondFacet(cell, facet);
+        // Each interface once: from the tissue side when the other side is background, else from the
+        // smaller label.
+        if (otherLabel != label && (otherLabel == BackgroundLabel || label < otherLabel))
+        {
+          mesh.boundaryTriangles.push_back(OutwardFacet(cell, facet, mesh));
+          mesh.boundaryTriangleLabels.push_back({ label, otherLabel });
+        }
+      }
+    }
+    return mesh;
+  }
+
+  static constexpr std::size_t ProgressInterval = 4096;
+
+  const LabelOracle &          m_Oracle;
+  const RefinementParameters & m_Parameters;
+  const ProgressObserver &     m_Observer;
+  const double                 m_Delta;
+
+  Triangulation                    m_Triangulation;
+  Kernel::Construct_circumcenter_3 m_Circumcenter{ m_Triangulation.geom_traits().construct_circumcenter_3_object() };
+  AxisAlignedBox                   m_Box;
+  std::vector<BoxEdge>             m_BoxEdges;
+  /** Feature vertices never move or go: the grid keeps only their positions, for R1's "any within δ". */
+  SpatialGrid<Vector3>      m_FeatureVertices;
+  SpatialGrid<VertexHandle> m_FreeVertices;
+  std::vector<VertexHandle> m_BoxFaceVertices;
+
+  std::priority_queue<QueueEntry, std::vector<QueueEntry>, QueueEntryOrder> m_Queue;
+  uint64_t                                                                  m_NextSequence{ 0 };
+  uint64_t                                                                  m_NextVertexId{ 0 };
+  uint64_t                                                                  m_LastStamp{ 0 };
+  std::vector<CellHandle>                                                   m_NewCells;
+  double                                                                    m_ProgressFraction{ 0.0 };
+  RefinementStatistics                                                      m_Statistics;
+};
+
+void
+RequireInRange(bool inRange, const char * name, double value, const char * validRange)
+{
+  if (!inRange)
+  {
+    throw std::invalid_argument(std::string("Invalid parameter ") + name + " = " + DescribeValue(value) +
+                                ": the valid range is " + validRange);
+  }
+}
+
+} // namespace
+
+void
+ValidateParameters(const RefinementParameters & parameters)
+{
+  const double delta = parameters.surfaceSamplingDistance;
+  RequireInRange(std::isfinite(delta) && delta > 0.0, "surfaceSamplingDistance (delta)", delta, "(0, +inf)");
+  const double rho = parameters.radiusEdgeBound;
+  RequireInRange(std::isfinite(rho) && rho >= 1.0, "radiusEdgeBound (rho)", rho, "[1, +inf)");
+  const double sigma = parameters.minimumDihedralAngle;
+  RequireInRange(sigma >= 0.0 && sigma <= 30.0, "minimumDihedralAngle (sigma, degrees)", sigma, "[0, 30]");
+  const auto maximumVertices = static_cast<double>(parameters.maximumNumberOfVertices);
+  RequireInRange(parameters.maximumNumberOfVertices >= 8,
+                 "maximumNumberOfVertices",
+                 maximumVertices,
+                 "[8, +inf) (the bounding box alone has 8)");
+}
+
+TetrahedralMesh
+RefineMesh(const LabelOracle & oracle, const RefinementParameters & parameters, RefinementStatistics * statistics,
+           const ProgressObserver & observer)
+{
+  ValidateParameters(parameters);
+  RefinementStatistics localStatistics;
+  Refiner              refiner(oracle, parameters, observer);
+  TetrahedralMesh      mesh = refiner.Run(localStatistics);
+  if (statistics)
+  {
+    *statistics = localStatistics;
+  }
+  return mesh;
+}
+
+} // namespace delaunay_refinement
