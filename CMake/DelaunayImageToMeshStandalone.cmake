@@ -29,9 +29,11 @@ set(CMAKE_RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/bin)
 set(CMAKE_LIBRARY_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/lib)
 set(CMAKE_ARCHIVE_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/lib)
 
+# Before src/: CGAL's config declares its own BUILD_TESTING option (default OFF), which would win otherwise.
+include(CTest)
+
 add_subdirectory(src)
 
-include(CTest)
 if(BUILD_TESTING)
   add_subdirectory(test)
 endif()

@@ -164,7 +164,7 @@ BoundingBoxOfCells(const std::vector<Vector3> &                                 
   {
     for (const uint32_t pointIndex : cells[cellIndex])
     {
-      for (int axis = 0; axis < 3; ++axis)
+      for (std::size_t axis = 0; axis < 3; ++axis)
       {
         box.lower[axis] = std::min(box.lower[axis], points[pointIndex][axis]);
         box.upper[axis] = std::max(box.upper[axis], points[pointIndex][axis]);
@@ -273,6 +273,10 @@ ToVtkUnstructuredGrid(const TetrahedralMesh & mesh)
 std::string
 DescribeVtkError(unsigned long errorCode)
 {
+  if (errorCode == vtkErrorCode::NoError)
+  {
+    return "Write() failed without an error code";
+  }
   // Below FirstVTKErrorCode, VTK stores the errno of the failed system call (the XML writers do).
   if (errorCode < vtkErrorCode::FirstVTKErrorCode)
   {

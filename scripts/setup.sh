@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Installs the Debian packages the module needs (when missing), then configures and builds into build/.
+# Safe to re-run: installed packages are skipped and the build is incremental (ccache when present).
+set -euo pipefail
+
+repository=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build_directory=${DELAUNAY_BUILD_DIR:-$repository/build}
+
+packages=(
+  cmake g++ make ccache pkg-config
+  libinsighttoolkit5-dev    # ITK 5.2.1
+  libcgal-dev               # CGAL 5.5, header-only (pulls GMP and MPFR)
+  libvtk9-dev               # VTK 9.1: .vtu/.vtk files, flying edges, rendering
+  libgtest-dev              # GoogleTest
+  libtbb-dev libeigen3-dev
+  insighttoolkit5-examples  # real segmented brain images for the tests and the sample run
+  python3 python3-numpy python3-meshio  # meshio re-reads every written mesh file in the tests
+)
+
+missing=()
+for package in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "== Installing Debian packages: ${missing[*]}"
+  sudo_prefix=""
+  [ "$(id -u)" -eq 0 ] || sudo_prefix="sudo"
+  $sudo_prefix apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo_prefix apt-get install -y -qq "${missing[@]}" >/dev/null
+fi
+
+echo "== Configuring and building in $build_directory"
+cmake -S "$repository" -B "$build_directory" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$build_directory" -j"$(nproc)"
