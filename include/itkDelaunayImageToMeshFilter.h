@@ -1,0 +1,203 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkDelaunayImageToMeshFilter_h
+#define itkDelaunayImageToMeshFilter_h
+
+#include "itkImageToMeshFilter.h"
+#include "itkInterpolateImageFunction.h"
+
+#include <vector>
+
+#if !defined(ITK_WRAPPING_PARSER)
+#  include "DelaunayRefinementMesher.h"
+#endif
+
+namespace itk
+{
+
+/** \class DelaunayImageToMeshFilter
+ * \brief Meshes a segmented 3-D image into tetrahedra with guaranteed quality and fidelity, by Delaunay
+ * refinement straight from the image (Foteinos, Chernikov and Chrisochoides).
+ *
+ * The refinement samples the object's surface while it meshes the volume, starting from the eight corners of
+ * a box. With the default radius-edge bound ρ = 2 and no minimum dihedral angle:
+ * - every tetrahedron has radius-edge ratio < ρ;
+ * - every boundary (and tissue-interface) triangle has all planar angles > 30°;
+ * - for δ small against the local feature size, the boundary is a closed 2-manifold isotopic to the
+ *   object's surface, within O(δ²) of it.
+ *
+ * The oracle is an InterpolateImageFunction on the input: nearest neighbour by default (label images),
+ * linear interpolation with an iso-value for gray images (SetIsoValue()), or any other ITK interpolator
+ * (e.g. LabelImageGaussianInterpolateImageFunction for smooth labels). Each selected label is a tissue;
+ * interfaces between tissues are meshed conformingly. Outside the image everything is background, so objects
+ * touching the border are closed there. All geometry is in physical space: spacing, origin and direction.
+ *
+ * Output 0: the tetrahedra (TetrahedronCell), their tissue label as cell data. Output 1: the boundary and
+ * interface triangles (TriangleCell) on the same points, oriented outwards from the tissue whose label is
+ * their cell data; GetInterfaceLabels() gives the label on each side.
+ *
+ * \ingroup DelaunayImageToMesh
+ */
+template <typename TInputImage, typename TOutputMesh>
+class ITK_TEMPLATE_EXPORT DelaunayImageToMeshFilter : public ImageToMeshFilter<TInputImage, TOutputMesh>
+{
+public:
+  ITK_DISALLOW_COPY_AND_MOVE(DelaunayImageToMeshFilter);
+
+  static constexpr unsigned int ImageDimension = TInputImage::ImageDimension;
+  static_assert(ImageDimension == 3,
+                "DelaunayImageToMeshFilter meshes 3-D images only: TInputImage must have ImageDimension == 3.");
+  static_assert(TOutputMesh::PointDimension == 3,
+                "DelaunayImageToMeshFilter makes tetrahedra: TOutputMesh must have PointDimension == 3.");
+
+  using Self = DelaunayImageToMeshFilter;
+  using Superclass = ImageToMeshFilter<TInputImage, TOutputMesh>;
+  using Pointer = SmartPointer<Self>;
+  using ConstPointer = SmartPointer<const Self>;
+
+  itkNewMacro(Self);
+  itkTypeMacro(DelaunayImageToMeshFilter, ImageToMeshFilter);
+
+  using InputImageType = TInputImage;
+  using InputPixelType = typename InputImageType::PixelType;
+  using OutputMeshType = TOutputMesh;
+  using OutputMeshPointer = typename OutputMeshType::Pointer;
+  using InterpolatorType = InterpolateImageFunction<InputImageType, double>;
+  using InterpolatorPointer = typename InterpolatorType::Pointer;
+  using LabelType = int32_t;
+  using LabelListType = std::vector<LabelType>;
+  using LabelPairType = std::array<LabelType, 2>;
+  using LabelPairListType = std::vector<LabelPairType>;
+
+  /** δ, the surface sampling distance in physical units (mm): smaller is finer and closer to the surface.
+   * 0 (the default) picks 4 × the largest voxel spacing. Valid: 0 or a finite value > 0. */
+  itkSetMacro(SurfaceSamplingDistance, double);
+  itkGetConstMacro(SurfaceSamplingDistance, double);
+
+  /** ρ, the radius-edge bound: every tetrahedron's circumradius / shortest edge is < ρ. Default 2 (the
+   * paper's guarantees); valid: finite, >= 1. */
+  itkSetMacro(RadiusEdgeBound, double);
+  itkGetConstMacro(RadiusEdgeBound, double);
+
+  /** σ, a minimum dihedral angle in degrees (the R4' variant, which splits slivers). Default 0 = off;
+   * valid: [0, 30]. With σ > 0 nothing is proven: the 30° boundary bound may not hold. */
+  itkSetMacro(MinimumDihedralAngle, double);
+  itkGetConstMacro(MinimumDihedralAngle, double);
+
+  /** A cap on the vertices of the triangulation; reaching it raises an exception. Default 10,000,000. */
+  itkSetMacro(MaximumNumberOfVertices, SizeValueType);
+  itkGetConstMacro(MaximumNumberOfVertices, SizeValueType);
+
+  /** The interpolator that labels points (its input is set by the filter). Default: nearest neighbour;
+   * linear when an iso-value is set and no interpolator was given. */
+  itkSetObjectMacro(Interpolator, InterpolatorType);
+  itkGetModifiableObjectMacro(Interpolator, InterpolatorType);
+
+  /** Treat the image as gray values: the object is where the interpolated value is >= IsoValue (label 1). */
+  void
+  SetIsoValue(double isoValue);
+  itkGetConstMacro(IsoValue, double);
+  /** Whether an iso-value is in use (set by SetIsoValue, cleared by UseIsoValueOff()). Default off. */
+  itkSetMacro(UseIsoValue, bool);
+  itkGetConstMacro(UseIsoValue, bool);
+  itkBooleanMacro(UseIsoValue);
+
+  /** The labels to mesh, each as a tissue. Empty (the default) = every non-zero label. */
+  void
+  SetLabels(const LabelListType & labels);
+  const LabelListType &
+  GetLabels() const
+  {
+    return m_Labels;
+  }
+
+  /** Output 1: boundary and interface triangles. */
+  OutputMeshType *
+  GetInterfaceMesh();
+
+  /** For each cell of GetInterfaceMesh(): {label inside (the cell data), label on the other side}. */
+  const LabelPairListType &
+  GetInterfaceLabels() const
+  {
+    return m_InterfaceLabels;
+  }
+
+  /** The δ the last update used (resolves the 0 = automatic default). */
+  itkGetConstMacro(EffectiveSurfaceSamplingDistance, double);
+
+#if !defined(ITK_WRAPPING_PARSER)
+  /** The last result as the refinement core produced it (points, kinds, tetrahedra, boundary triangles). */
+  const delaunay_refinement::TetrahedralMesh &
+  GetRefinedMesh() const
+  {
+    return m_RefinedMesh;
+  }
+
+  /** What the refinement did during the last update. */
+  const delaunay_refinement::RefinementStatistics &
+  GetRefinementStatistics() const
+  {
+    return m_RefinementStatistics;
+  }
+#endif
+
+protected:
+  DelaunayImageToMeshFilter();
+  ~DelaunayImageToMeshFilter() override = default;
+
+  void
+  GenerateData() override;
+
+  void
+  PrintSelf(std::ostream & os, Indent indent) const override;
+
+private:
+  void
+  ValidateInput(const InputImageType * image) const;
+  double
+  ResolveSurfaceSamplingDistance(const InputImageType * image) const;
+  InterpolatorPointer
+  MakeInterpolator(const InputImageType * image) const;
+#if !defined(ITK_WRAPPING_PARSER)
+  void
+  FillOutputs(const delaunay_refinement::TetrahedralMesh & mesh);
+#endif
+
+  double              m_SurfaceSamplingDistance{ 0.0 };
+  double              m_EffectiveSurfaceSamplingDistance{ 0.0 };
+  double              m_RadiusEdgeBound{ 2.0 };
+  double              m_MinimumDihedralAngle{ 0.0 };
+  SizeValueType       m_MaximumNumberOfVertices{ 10000000 };
+  InterpolatorPointer m_Interpolator;
+  double              m_IsoValue{ 0.0 };
+  bool                m_UseIsoValue{ false };
+  LabelListType       m_Labels;
+  LabelPairListType   m_InterfaceLabels;
+#if !defined(ITK_WRAPPING_PARSER)
+  delaunay_refinement::TetrahedralMesh      m_RefinedMesh;
+  delaunay_refinement::RefinementStatistics m_RefinementStatistics;
+#endif
+};
+
+} // namespace itk
+
+#ifndef ITK_MANUAL_INSTANTIATION
+#  include "itkDelaunayImageToMeshFilter.hxx"
+#endif
+
+#endif

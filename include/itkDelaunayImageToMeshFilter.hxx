@@ -1,0 +1,286 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkDelaunayImageToMeshFilter_hxx
+#define itkDelaunayImageToMeshFilter_hxx
+
+#include "itkDelaunayImageToMeshFilter.h"
+#include "itkImageLabelOracle.h"
+
+#include "itkImageRegionConstIteratorWithIndex.h"
+#include "itkLinearInterpolateImageFunction.h"
+#include "itkNearestNeighborInterpolateImageFunction.h"
+#include "itkTetrahedronCell.h"
+#include "itkTriangleCell.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace itk
+{
+
+template <typename TInputImage, typename TOutputMesh>
+DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::DelaunayImageToMeshFilter()
+{
+  this->SetNumberOfRequiredOutputs(2);
+  this->ProcessObject::SetNthOutput(1, this->MakeOutput(1));
+}
+
+template <typename TInputImage, typename TOutputMesh>
+void
+DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::SetIsoValue(double isoValue)
+{
+  if (m_IsoValue != isoValue || !m_UseIsoValue)
+  {
+    m_IsoValue = isoValue;
+    m_UseIsoValue = true;
+    this->Modified();
+  }
+}
+
+template <typename TInputImage, typename TOutputMesh>
+void
+DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::SetLabels(const LabelListType & labels)
+{
+  if (m_Labels != labels)
+  {
+    m_Labels = labels;
+    this->Modified();
+  }
+}
+
+template <typename TInputImage, typename TOutputMesh>
+auto
+DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GetInterfaceMesh() -> OutputMeshType *
+{
+  return itkDynamicCastInDebugMode<OutputMeshType *>(this->ProcessObject::GetOutput(1));
+}
+
+template <typename TInputImage, typename TOutputMesh>
+void
+DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::ValidateInput(const InputImageType * image) const
+{
+  if (image == nullptr)
+  {
+    itkExceptionMacro(<< "The input image is not set.");
+  }
+  const auto & region = image->GetBufferedRegion();
+  if (region.GetNumberOfPixels() == 0)
+  {
+    itkExceptionMacro(<< "The input image's buffered region is empty (size " << region.GetSize()
+                      << "): there is nothing to mesh.");
+  }
+  if (!std::is_floating_point<InputPixelType>::value)
+  {
+    return;
+  }
+  for (ImageRegionConstIteratorWithIndex<InputImageType> it(image, region); !it.IsAtEnd(); ++it)
+  {
+    if (!std::isfinite(static_cast<double>(it.Get())))
+    {
+      itkExceptionMacro(<< "The input image holds a non-finite value (" << it.Get() << ") at index " << it.GetIndex()
+                        << "; every voxel value must be finite.");
+    }
+  }
+}
+
+template <typename TInputImage, typename TOutputMesh>
+double
+DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::ResolveSurfaceSamplingDistance(const InputImageType * image) const
+{
+  if (!(m_SurfaceSamplingDistance >= 0.0) || !std::isfinite(m_SurfaceSamplingDistance))
+  {
+    itkExceptionMacro(<< "Invalid SurfaceSamplingDistance (delta) = " << m_SurfaceSamplingDistance
+                      << ": the valid range is 0 (automatic) or a finite value > 0, in physical units (mm).");
+  }
+  if (m_SurfaceSamplingDistance > 0.0)
+  {
+    return m_SurfaceSamplingDistance;
+  }
+  const auto & spacing = image->GetSpacing();
+  return 4.0 * *std::max_element(spacing.Begin(), spacing.End());
+}
+
+template <typename TInputImage, typename TOutputMesh>
+auto
+DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::MakeInterpolator(const InputImageType * image) const
+  -> InterpolatorPointer
+{
+  InterpolatorPointer interpolator = m_Interpolator;
+  if (interpolator.IsNull())
+  {
+    if (m_UseIsoValue)
+    {
+      interpolator = LinearInterpolateImageFunction<InputImageType, double>::New();
+    }
+    else
+    {
+      interpolator = NearestNeighborInterpolateImageFunction<InputImageType, double>::New();
+    }
+  }
+  interpolator->SetInputImage(image);
+  return interpolator;
+}
+
+template <typename TInputImage, typename TOutputMesh>
+void
+DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
+{
+  const InputImageType * image = this->GetInput();
+  ValidateInput(image);
+  m_EffectiveSurfaceSamplingDistance = ResolveSurfaceSamplingDistance(image);
+
+  delaunay_refinement::RefinementParameters parameters;
+  parameters.surfaceSamplingDistance = m_EffectiveSurfaceSamplingDistance;
+  parameters.radiusEdgeBound = m_RadiusEdgeBound;
+  parameters.minimumDihedralAngle = m_MinimumDihedralAngle;
+  parameters.maximumNumberOfVertices = m_MaximumNumberOfVertices;
+  try
+  {
+    delaunay_refinement::ValidateParameters(parameters);
+  }
+  catch (const std::invalid_argument & error)
+  {
+    itkExceptionMacro(<< error.what());
+  }
+
+  this->UpdateProgress(0.0f);
+  const InterpolatorPointer                interpolator = MakeInterpolator(image);
+  const ImageLabelOracle<InputImageType> oracle(image, interpolator, m_Labels, m_UseIsoValue, m_IsoValue);
+  if (oracle.GetNumberOfObjectVoxels() == 0)
+  {
+    itkExceptionMacro(<< "No voxel of the input is part of the object ("
+                      << (m_UseIsoValue ? "no value >= the iso-value" : "no voxel carries a selected label")
+                      << "): there is nothing to mesh.");
+  }
+  // The oracle's distance map is the set-up; refinement is the rest of the progress range.
+  constexpr float setupShare = 0.1f;
+  this->UpdateProgress(setupShare);
+  const delaunay_refinement::ProgressObserver observer = [this](const delaunay_refinement::RefinementProgress & progress) {
+    this->UpdateProgress(setupShare + (0.99f - setupShare) * static_cast<float>(progress.fraction));
+    return !this->GetAbortGenerateData();
+  };
+
+  try
+  {
+    m_RefinedMesh = delaunay_refinement::RefineMesh(oracle, parameters, &m_RefinementStatistics, observer);
+  }
+  catch (const delaunay_refinement::RefinementAborted & error)
+  {
+    ProcessAborted aborted(__FILE__, __LINE__);
+    aborted.SetLocation(ITK_LOCATION);
+    aborted.SetDescription(error.what());
+    throw aborted;
+  }
+  catch (const delaunay_refinement::VertexLimitExceeded & error)
+  {
+    itkExceptionMacro(<< error.what() << " (MaximumNumberOfVertices = " << m_MaximumNumberOfVertices << ")");
+  }
+  if (m_RefinedMesh.tetrahedra.empty())
+  {
+    itkExceptionMacro(<< "The refinement produced no tetrahedron: the object (" << oracle.GetNumberOfObjectVoxels()
+                      << " voxels) is too small for SurfaceSamplingDistance (delta) = "
+                      << m_EffectiveSurfaceSamplingDistance << " mm; choose a smaller delta.");
+  }
+  FillOutputs(m_RefinedMesh);
+  this->UpdateProgress(1.0f);
+}
+
+template <typename TInputImage, typename TOutputMesh>
+void
+DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::FillOutputs(const delaunay_refinement::TetrahedralMesh & mesh)
+{
+  using CellType = typename OutputMeshType::CellType;
+  using CellAutoPointer = typename CellType::CellAutoPointer;
+  using CellPixelType = typename OutputMeshType::CellPixelType;
+  using PointType = typename OutputMeshType::PointType;
+  using PointIdentifier = typename OutputMeshType::PointIdentifier;
+
+  OutputMeshType * tetrahedra = this->GetOutput();
+  OutputMeshType * interfaces = this->GetInterfaceMesh();
+  tetrahedra->Initialize();
+  interfaces->Initialize();
+
+  auto points = OutputMeshType::PointsContainer::New();
+  points->Reserve(mesh.points.size());
+  for (std::size_t i = 0; i < mesh.points.size(); ++i)
+  {
+    PointType point;
+    for (unsigned int axis = 0; axis < 3; ++axis)
+    {
+      point[axis] = mesh.points[i][axis];
+    }
+    points->SetElement(i, point);
+  }
+  tetrahedra->SetPoints(points);
+  interfaces->SetPoints(points);
+
+  for (std::size_t i = 0; i < mesh.tetrahedra.size(); ++i)
+  {
+    CellAutoPointer cell;
+    cell.TakeOwnership(new TetrahedronCell<CellType>);
+    for (unsigned int corner = 0; corner < 4; ++corner)
+    {
+      cell->SetPointId(corner, static_cast<PointIdentifier>(mesh.tetrahedra[i][corner]));
+    }
+    tetrahedra->SetCell(i, cell);
+    tetrahedra->SetCellData(i, static_cast<CellPixelType>(mesh.tetrahedronLabels[i]));
+  }
+
+  m_InterfaceLabels.assign(mesh.boundaryTriangleLabels.begin(), mesh.boundaryTriangleLabels.end());
+  for (std::size_t i = 0; i < mesh.boundaryTriangles.size(); ++i)
+  {
+    CellAutoPointer cell;
+    cell.TakeOwnership(new TriangleCell<CellType>);
+    for (unsigned int corner = 0; corner < 3; ++corner)
+    {
+      cell->SetPointId(corner, static_cast<PointIdentifier>(mesh.boundaryTriangles[i][corner]));
+    }
+    interfaces->SetCell(i, cell);
+    interfaces->SetCellData(i, static_cast<CellPixelType>(mesh.boundaryTriangleLabels[i][0]));
+  }
+}
+
+template <typename TInputImage, typename TOutputMesh>
+void
+DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf(std::ostream & os, Indent indent) const
+{
+  Superclass::PrintSelf(os, indent);
+  os << indent << "SurfaceSamplingDistance: " << m_SurfaceSamplingDistance << std::endl;
+  os << indent << "EffectiveSurfaceSamplingDistance: " << m_EffectiveSurfaceSamplingDistance << std::endl;
+  os << indent << "RadiusEdgeBound: " << m_RadiusEdgeBound << std::endl;
+  os << indent << "MinimumDihedralAngle: " << m_MinimumDihedralAngle << std::endl;
+  os << indent << "MaximumNumberOfVertices: " << m_MaximumNumberOfVertices << std::endl;
+  itkPrintSelfObjectMacro(Interpolator);
+  os << indent << "IsoValue: " << m_IsoValue << std::endl;
+  os << indent << "UseIsoValue: " << (m_UseIsoValue ? "On" : "Off") << std::endl;
+  os << indent << "Labels:";
+  for (const LabelType label : m_Labels)
+  {
+    os << ' ' << label;
+  }
+  os << (m_Labels.empty() ? " (all non-zero)" : "") << std::endl;
+  os << indent << "InterfaceLabels: " << m_InterfaceLabels.size() << " pairs" << std::endl;
+  os << indent << "RefinedMesh: " << m_RefinedMesh.points.size() << " points, " << m_RefinedMesh.tetrahedra.size()
+     << " tetrahedra, " << m_RefinedMesh.boundaryTriangles.size() << " boundary triangles" << std::endl;
+  os << indent << "RefinementStatistics: " << m_RefinementStatistics.triangulationVertices
+     << " triangulation vertices, " << m_RefinementStatistics.refinementSeconds << " s" << std::endl;
+}
+
+} // namespace itk
+
+#endif

@@ -1,0 +1,115 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "DelaunayImageToMeshSurfaceExtraction.h"
+
+#include <vtkCellArray.h>
+#include <vtkDiscreteFlyingEdges3D.h>
+#include <vtkImageData.h>
+#include <vtkIntArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+
+#include <set>
+
+namespace delaunay_refinement
+{
+namespace
+{
+
+/** The volume in index space (VTK 9.1's flying edges ignores image direction), padded by one background
+ * voxel on every side. */
+void
+FillPaddedImage(const LabelVolume & volume, vtkImageData * image)
+{
+  const int padded[3] = { static_cast<int>(volume.size[0]) + 2,
+                          static_cast<int>(volume.size[1]) + 2,
+                          static_cast<int>(volume.size[2]) + 2 };
+  image->SetDimensions(padded[0], padded[1], padded[2]);
+  image->SetOrigin(-1.0, -1.0, -1.0);
+  image->SetSpacing(1.0, 1.0, 1.0);
+  image->AllocateScalars(VTK_INT, 1);
+  auto * scalars = static_cast<int *>(image->GetScalarPointer());
+  std::fill(scalars, scalars + static_cast<std::size_t>(padded[0]) * padded[1] * padded[2], 0);
+  for (std::size_t k = 0; k < volume.size[2]; ++k)
+  {
+    for (std::size_t j = 0; j < volume.size[1]; ++j)
+    {
+      for (std::size_t i = 0; i < volume.size[0]; ++i)
+      {
+        const std::size_t source = i + volume.size[0] * (j + volume.size[1] * k);
+        const std::size_t target = (i + 1) + padded[0] * ((j + 1) + padded[1] * (k + 1));
+        scalars[target] = volume.labels[source];
+      }
+    }
+  }
+}
+
+} // namespace
+
+TriangleSurface
+ExtractLabelSurfaces(const LabelVolume & volume)
+{
+  TriangleSurface surface;
+  std::set<Label> labels(volume.labels.begin(), volume.labels.end());
+  labels.erase(BackgroundLabel);
+  if (labels.empty())
+  {
+    return surface;
+  }
+  vtkNew<vtkImageData> image;
+  FillPaddedImage(volume, image);
+  vtkNew<vtkDiscreteFlyingEdges3D> flyingEdges;
+  flyingEdges->SetInputData(image);
+  flyingEdges->ComputeNormalsOff();
+  flyingEdges->ComputeGradientsOff();
+  flyingEdges->ComputeScalarsOff();
+  int contour = 0;
+  for (const Label label : labels)
+  {
+    flyingEdges->SetValue(contour++, static_cast<double>(label));
+  }
+  flyingEdges->Update();
+  vtkPolyData * polyData = flyingEdges->GetOutput();
+
+  vtkPoints * points = polyData->GetPoints();
+  const vtkIdType numberOfPoints = points ? points->GetNumberOfPoints() : 0;
+  surface.points.reserve(static_cast<std::size_t>(numberOfPoints));
+  for (vtkIdType i = 0; i < numberOfPoints; ++i)
+  {
+    double index[3];
+    points->GetPoint(i, index);
+    surface.points.push_back(volume.IndexToPhysical({ { index[0], index[1], index[2] } }));
+  }
+  vtkCellArray * polygons = polyData->GetPolys();
+  vtkIdType        cellSize = 0;
+  const vtkIdType * cellPoints = nullptr;
+  for (polygons->InitTraversal(); polygons->GetNextCell(cellSize, cellPoints);)
+  {
+    if (cellSize == 3)
+    {
+      surface.triangles.push_back({ static_cast<uint32_t>(cellPoints[0]),
+                                    static_cast<uint32_t>(cellPoints[1]),
+                                    static_cast<uint32_t>(cellPoints[2]) });
+    }
+  }
+  return surface;
+}
+
+} // namespace delaunay_refinement
