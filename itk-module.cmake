@@ -9,8 +9,6 @@ itk_module(DelaunayImageToMesh
     ITKMesh
     ITKImageFunction
     ITKDistanceMap
-  COMPILE_DEPENDS
-    ITKImageSources
   TEST_DEPENDS
     ITKTestKernel
     ITKIOImageBase

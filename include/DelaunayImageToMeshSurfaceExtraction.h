@@ -34,7 +34,9 @@ struct LabelVolume
   std::vector<Label>                   labels;
   Vector3                              origin{ { 0.0, 0.0, 0.0 } };
   std::array<double, 3>                spacing{ { 1.0, 1.0, 1.0 } };
-  std::array<std::array<double, 3>, 3> direction{ { { { 1.0, 0.0, 0.0 } }, { { 0.0, 1.0, 0.0 } }, { { 0.0, 0.0, 1.0 } } } };
+  std::array<std::array<double, 3>, 3> direction{
+    { { { 1.0, 0.0, 0.0 } }, { { 0.0, 1.0, 0.0 } }, { { 0.0, 0.0, 1.0 } } }
+  };
 
   /** Physical position of a (continuous) voxel index. */
   Vector3
@@ -64,7 +66,7 @@ struct TriangleSurface
  * The volume is padded with background first, so regions touching its border are closed there, as the
  * mesher closes them. The reference surface for fidelity measurements. */
 DelaunayImageToMesh_EXPORT TriangleSurface
-                           ExtractLabelSurfaces(const LabelVolume & volume);
+ExtractLabelSurfaces(const LabelVolume & volume);
 
 } // namespace delaunay_refinement
 

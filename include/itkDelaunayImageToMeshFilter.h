@@ -125,17 +125,30 @@ public:
   {
     return m_Labels;
   }
+  /** Adds one label to mesh (the form scripting languages use). */
+  void
+  AddLabel(LabelType label);
+  /** Back to the default: every non-zero label. */
+  void
+  ClearLabels();
 
   /** Output 1: boundary and interface triangles. */
   OutputMeshType *
   GetInterfaceMesh();
 
+  /** The label on side `side` (0: inside, the cell data; 1: the other side, 0 for background) of cell
+   * `cellId` of GetInterfaceMesh(). */
+  LabelType
+  GetInterfaceLabel(SizeValueType cellId, unsigned int side) const;
+
+#if !defined(ITK_WRAPPING_PARSER)
   /** For each cell of GetInterfaceMesh(): {label inside (the cell data), label on the other side}. */
   const LabelPairListType &
   GetInterfaceLabels() const
   {
     return m_InterfaceLabels;
   }
+#endif
 
   /** The δ the last update used (resolves the 0 = automatic default). */
   itkGetConstMacro(EffectiveSurfaceSamplingDistance, double);

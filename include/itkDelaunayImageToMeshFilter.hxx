@@ -64,6 +64,38 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::SetLabels(const LabelListTy
 }
 
 template <typename TInputImage, typename TOutputMesh>
+void
+DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::AddLabel(LabelType label)
+{
+  m_Labels.push_back(label);
+  this->Modified();
+}
+
+template <typename TInputImage, typename TOutputMesh>
+void
+DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::ClearLabels()
+{
+  if (!m_Labels.empty())
+  {
+    m_Labels.clear();
+    this->Modified();
+  }
+}
+
+template <typename TInputImage, typename TOutputMesh>
+auto
+DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GetInterfaceLabel(SizeValueType cellId, unsigned int side) const
+  -> LabelType
+{
+  if (cellId >= m_InterfaceLabels.size() || side > 1)
+  {
+    itkExceptionMacro(<< "GetInterfaceLabel(" << cellId << ", " << side << "): the valid ranges are cellId in [0, "
+                      << m_InterfaceLabels.size() << ") and side in {0, 1}.");
+  }
+  return m_InterfaceLabels[cellId][side];
+}
+
+template <typename TInputImage, typename TOutputMesh>
 auto
 DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GetInterfaceMesh() -> OutputMeshType *
 {
@@ -159,7 +191,7 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
   }
 
   this->UpdateProgress(0.0f);
-  const InterpolatorPointer                interpolator = MakeInterpolator(image);
+  const InterpolatorPointer              interpolator = MakeInterpolator(image);
   const ImageLabelOracle<InputImageType> oracle(image, interpolator, m_Labels, m_UseIsoValue, m_IsoValue);
   if (oracle.GetNumberOfObjectVoxels() == 0)
   {
@@ -170,10 +202,11 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
   // The oracle's distance map is the set-up; refinement is the rest of the progress range.
   constexpr float setupShare = 0.1f;
   this->UpdateProgress(setupShare);
-  const delaunay_refinement::ProgressObserver observer = [this](const delaunay_refinement::RefinementProgress & progress) {
-    this->UpdateProgress(setupShare + (0.99f - setupShare) * static_cast<float>(progress.fraction));
-    return !this->GetAbortGenerateData();
-  };
+  const delaunay_refinement::ProgressObserver observer =
+    [this](const delaunay_refinement::RefinementProgress & progress) {
+      this->UpdateProgress(setupShare + (0.99f - setupShare) * static_cast<float>(progress.fraction));
+      return !this->GetAbortGenerateData();
+    };
 
   try
   {

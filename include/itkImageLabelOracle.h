@@ -63,11 +63,8 @@ public:
   using Vector3 = delaunay_refinement::Vector3;
 
   /** `selectedLabels` empty = every non-zero label. With `useIsoValue` the labels are 0/1 by `isoValue`. */
-  ImageLabelOracle(const InputImageType *         image,
-                   const InterpolatorType *       interpolator,
-                   const std::vector<LabelType> & selectedLabels,
-                   bool                           useIsoValue,
-                   double                         isoValue);
+  ImageLabelOracle(const InputImageType * image, const InterpolatorType * interpolator,
+                   const std::vector<LabelType> & selectedLabels, bool useIsoValue, double isoValue);
 
   LabelType
   LabelAt(const Vector3 & point) const override;
@@ -109,16 +106,16 @@ private:
   IndexType
   NearestIndexInGrid(const Vector3 & point) const;
 
-  typename InputImageType::ConstPointer        m_Image;
-  typename InterpolatorType::ConstPointer      m_Interpolator;
-  std::vector<LabelType>                       m_SelectedLabels;
-  bool                                         m_UseIsoValue;
-  double                                       m_IsoValue;
-  typename LabelImageType::Pointer             m_LabelImage;
-  typename FeatureOffsetImageType::Pointer     m_FeatureOffsets;
-  delaunay_refinement::AxisAlignedBox          m_ObjectBounds;
-  SizeValueType                                m_NumberOfObjectVoxels{ 0 };
-  double                                       m_SurfaceTolerance{ 0.0 };
+  typename InputImageType::ConstPointer    m_Image;
+  typename InterpolatorType::ConstPointer  m_Interpolator;
+  std::vector<LabelType>                   m_SelectedLabels;
+  bool                                     m_UseIsoValue;
+  double                                   m_IsoValue;
+  typename LabelImageType::Pointer         m_LabelImage;
+  typename FeatureOffsetImageType::Pointer m_FeatureOffsets;
+  delaunay_refinement::AxisAlignedBox      m_ObjectBounds;
+  SizeValueType                            m_NumberOfObjectVoxels{ 0 };
+  double                                   m_SurfaceTolerance{ 0.0 };
 };
 
 } // namespace itk

@@ -31,11 +31,9 @@ namespace itk
 {
 
 template <typename TInputImage>
-ImageLabelOracle<TInputImage>::ImageLabelOracle(const InputImageType *         image,
-                                                const InterpolatorType *       interpolator,
-                                                const std::vector<LabelType> & selectedLabels,
-                                                bool                           useIsoValue,
-                                                double                         isoValue)
+ImageLabelOracle<TInputImage>::ImageLabelOracle(const InputImageType * image, const InterpolatorType * interpolator,
+                                                const std::vector<LabelType> & selectedLabels, bool useIsoValue,
+                                                double isoValue)
   : m_Image(image)
   , m_Interpolator(interpolator)
   , m_SelectedLabels(selectedLabels)
@@ -256,7 +254,8 @@ ImageLabelOracle<TInputImage>::ClosestSurfacePoint(const Vector3 & query) const
     }
   }
   // A smoothing interpolator can disagree with the voxel labels; then bracket the surface from the query.
-  for (const auto & bracket : { std::make_pair(inside, across), std::make_pair(query, inside), std::make_pair(query, across) })
+  for (const auto & bracket :
+       { std::make_pair(inside, across), std::make_pair(query, inside), std::make_pair(query, across) })
   {
     if (LabelAt(bracket.first) != LabelAt(bracket.second))
     {

@@ -88,7 +88,7 @@ ExtractLabelSurfaces(const LabelVolume & volume)
   flyingEdges->Update();
   vtkPolyData * polyData = flyingEdges->GetOutput();
 
-  vtkPoints * points = polyData->GetPoints();
+  vtkPoints *     points = polyData->GetPoints();
   const vtkIdType numberOfPoints = points ? points->GetNumberOfPoints() : 0;
   surface.points.reserve(static_cast<std::size_t>(numberOfPoints));
   for (vtkIdType i = 0; i < numberOfPoints; ++i)
@@ -97,8 +97,8 @@ ExtractLabelSurfaces(const LabelVolume & volume)
     points->GetPoint(i, index);
     surface.points.push_back(volume.IndexToPhysical({ { index[0], index[1], index[2] } }));
   }
-  vtkCellArray * polygons = polyData->GetPolys();
-  vtkIdType        cellSize = 0;
+  vtkCellArray *    polygons = polyData->GetPolys();
+  vtkIdType         cellSize = 0;
   const vtkIdType * cellPoints = nullptr;
   for (polygons->InitTraversal(); polygons->GetNextCell(cellSize, cellPoints);)
   {

@@ -1,0 +1,88 @@
+#!/usr/bin/env bash
+# Builds ITK 5.2.1 with Python wrapping from Debian's own source package, with this module enabled as a
+# remote module inside that ITK tree, then runs the module's Python tests against it.
+#
+# Debian ships no wrapped ITK and no Python registry is reachable here, so this is the only way to prove the
+# wrapping. The build is cached outside the repository (DELAUNAY_ITK_PYTHON_CACHE, default
+# ~/.cache/delaunay-image-to-mesh/itk-python): a second run only rebuilds what changed. About an hour on
+# 2 cores the first time (3-D only; unsigned char, short and float; the few modules the filter needs).
+set -euo pipefail
+
+repository=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+cache=${DELAUNAY_ITK_PYTHON_CACHE:-$HOME/.cache/delaunay-image-to-mesh/itk-python}
+build=$cache/build
+python=/usr/bin/python3   # Debian's Python: it has Debian's NumPy
+
+install_build_packages() {
+  local packages=(dpkg-dev swig castxml python3-dev python3-numpy libcgal-dev cmake g++ make ccache)
+  local missing=()
+  for package in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")
+  done
+  if [ ${#missing[@]} -gt 0 ]; then
+    apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}" >/dev/null
+  fi
+}
+
+enable_source_packages() {
+  if ! grep -rqsE '^(Types:.*deb-src|deb-src )' /etc/apt/sources.list /etc/apt/sources.list.d/; then
+    if [ -f /etc/apt/sources.list.d/debian.sources ]; then
+      sed -i 's/^Types: deb$/Types: deb deb-src/' /etc/apt/sources.list.d/debian.sources
+    else
+      sed -n 's/^deb /deb-src /p' /etc/apt/sources.list >/etc/apt/sources.list.d/deb-src.list
+    fi
+    apt-get update -qq
+  fi
+}
+
+fetch_itk_source() {
+  if [ ! -d "$cache/source" ]; then
+    enable_source_packages
+    mkdir -p "$cache/download"
+    (cd "$cache/download" && apt-get source -qq insighttoolkit5 >/dev/null)
+    mv "$cache/download"/insighttoolkit5-*/ "$cache/source"
+  fi
+  # The module is built from this checkout, as a remote module of that ITK tree.
+  ln -sfn "$repository" "$cache/source/Modules/Remote/DelaunayImageToMesh"
+}
+
+configure_and_build() {
+  cmake -S "$cache/source" -B "$build" \
+    -DCMAKE_BUILD_TYPE=Release \
+    -DCMAKE_CXX_COMPILER_LAUNCHER=ccache \
+    -DBUILD_TESTING=OFF -DBUILD_EXAMPLES=OFF -DBUILD_SHARED_LIBS=ON \
+    -DITK_BUILD_DEFAULT_MODULES=OFF \
+    -DModule_ITKMesh=ON -DModule_ITKImageFunction=ON -DModule_ITKDistanceMap=ON \
+    -DModule_ITKIONIFTI=ON -DModule_ITKBridgeNumPy=ON \
+    -DModule_DelaunayImageToMesh=ON \
+    -DITK_WRAP_PYTHON=ON -DITK_WRAP_IMAGE_DIMS=3 \
+    -DITK_WRAP_unsigned_char=ON -DITK_WRAP_signed_short=ON -DITK_WRAP_float=ON \
+    -DITK_WRAP_unsigned_short=OFF -DITK_WRAP_double=OFF \
+    -DITK_WRAP_covariant_vector_float=OFF -DITK_WRAP_vector_float=OFF -DITK_WRAP_rgb_unsigned_char=OFF \
+    -DITK_WRAP_rgba_unsigned_char=OFF \
+    -DITK_USE_SYSTEM_SWIG=ON -DITK_USE_SYSTEM_CASTXML=ON \
+    -DPython3_EXECUTABLE="$python" >"$cache/configure.log"
+  cmake --build "$build" -j"$(nproc)" >"$cache/build.log" 2>&1 || { tail -40 "$cache/build.log"; exit 1; }
+}
+
+# ITK 5.2.1's Python still says numpy.bool, which NumPy 1.24 (Debian 12) removed.
+restore_numpy_bool() {
+  grep -rlE 'np\.bool\b|numpy\.bool\b' "$build/Wrapping/Generators/Python/itk" 2>/dev/null |
+    xargs -r sed -i -E 's/\b(np|numpy)\.bool\b([^_])/\1.bool_\2/g'
+}
+
+run_python_tests() {
+  export PYTHONPATH="$build/Wrapping/Generators/Python:$build/lib${PYTHONPATH:+:$PYTHONPATH}"
+  export LD_LIBRARY_PATH="$build/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+  "$python" -c "import itk; filter = itk.DelaunayImageToMeshFilter.New(); print('import itk: ok')"
+  "$python" "$repository/wrapping/test/delaunay_image_to_mesh_test.py"
+}
+
+start=$(date +%s)
+install_build_packages
+fetch_itk_source
+configure_and_build
+restore_numpy_bool
+run_python_tests
+echo "== ITK Python build and tests done in $(( $(date +%s) - start )) s (cache: $cache)"
