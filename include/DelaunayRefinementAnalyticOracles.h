@@ -178,7 +178,7 @@ public:
   MinimumLocalFeatureSize() const override;
 
 private:
-  /** Closest point of the flat plate to `query`. */
+  /** Closest point of the flat plate to `query`, relative to the centre. */
   Vector3
   ClosestPlatePoint(const Vector3 & query) const;
 

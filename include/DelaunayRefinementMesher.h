@@ -63,7 +63,8 @@ struct RefinementStatistics
   std::size_t deletedVertices{ 0 };
   /** Queue entries skipped because their tetrahedron no longer existed. */
   std::size_t staleQueueEntries{ 0 };
-  /** R2 circumcentres outside the box for which the walk towards them found no box facet (expected: 0). */
+  /** R2 circumcentres outside the box whose box exit point fell on an edge or a vertex of the hull triangulation
+   * instead of inside one of its facets, so that no box facet could be chosen (measure zero; expected 0). */
   std::size_t unresolvedBoxEncroachments{ 0 };
   /** Vertices of the final triangulation, box vertices included. */
   std::size_t triangulationVertices{ 0 };

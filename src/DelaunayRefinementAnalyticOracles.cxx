@@ -27,18 +27,29 @@ namespace delaunay_refinement
 namespace
 {
 
-/** Below this a direction is undefined (the query sits on a core point); any unit direction is then right. */
-constexpr double DegenerateLength = 1e-300;
+/** Below this length, relative to the offset, the direction from a core point to a query is rounding noise:
+ * the query sits on the core, where any normal direction of the core is right. */
+constexpr double DegenerateRelativeLength = 1e-12;
 
 /** The point at distance `offset` from `corePoint` in the direction of `query`: the closest point of the
- * offset surface {x : dist(x, core) = offset} when `corePoint` is the core point closest to `query`. */
+ * offset surface {x : dist(x, core) = offset} when `corePoint` is the core point closest to `query`. Both are
+ * in the shape's local frame, so that a query on the core gives an exactly zero difference, not rounding
+ * noise that would be normalised into a wrong direction. */
 SurfacePoint
 OffsetSurfacePoint(const Vector3 & query, const Vector3 & corePoint, double offset, const Vector3 & fallbackDirection)
 {
   const Vector3 toQuery = query - corePoint;
   const double  length = Norm(toQuery);
-  const Vector3 direction = length > DegenerateLength ? (1.0 / length) * toQuery : fallbackDirection;
+  const Vector3 direction = length > DegenerateRelativeLength * offset ? (1.0 / length) * toQuery : fallbackDirection;
   return { corePoint + offset * direction, std::abs(length - offset) };
+}
+
+/** A surface point computed in a shape's local frame, moved back to physical space. */
+SurfacePoint
+FromLocal(SurfacePoint local, const Vector3 & center)
+{
+  local.point = center + local.point;
+  return local;
 }
 
 SurfacePoint
@@ -129,7 +140,7 @@ SphereOracle::ObjectBounds() const
 SurfacePoint
 SphereOracle::ClosestSurfacePoint(const Vector3 & query) const
 {
-  return OffsetSurfacePoint(query, m_Center, m_Radius, UnitZ);
+  return FromLocal(OffsetSurfacePoint(query - m_Center, Vector3{ { 0.0, 0.0, 0.0 } }, m_Radius, UnitZ), m_Center);
 }
 
 TorusOracle::TorusOracle(const Vector3 & center, double majorRadius, double minorRadius)
@@ -162,10 +173,11 @@ TorusOracle::ClosestSurfacePoint(const Vector3 & query) const
   const Vector3 local = query - m_Center;
   const double  radial = std::hypot(local[0], local[1]);
   // On the axis every point of the core circle is closest; take the one on the +x side.
-  const Vector3 radialDirection =
-    radial > DegenerateLength ? Vector3{ { local[0] / radial, local[1] / radial, 0.0 } } : Vector3{ { 1.0, 0.0, 0.0 } };
-  const Vector3 corePoint = m_Center + m_MajorRadius * radialDirection;
-  return OffsetSurfacePoint(query, corePoint, m_MinorRadius, radialDirection);
+  const Vector3 radialDirection = radial > DegenerateRelativeLength * m_MajorRadius
+                                    ? Vector3{ { local[0] / radial, local[1] / radial, 0.0 } }
+                                    : Vector3{ { 1.0, 0.0, 0.0 } };
+  const Vector3 corePoint = m_MajorRadius * radialDirection;
+  return FromLocal(OffsetSurfacePoint(local, corePoint, m_MinorRadius, radialDirection), m_Center);
 }
 
 double
@@ -231,7 +243,7 @@ Genus2Oracle::ClosestPlatePoint(const Vector3 & query) const
   const double  distanceToSegment = Norm(fromSegment);
   if (distanceToSegment > m_PlateRadius)
   {
-    return m_Center + onSegment + (m_PlateRadius / distanceToSegment) * fromSegment;
+    return onSegment + (m_PlateRadius / distanceToSegment) * fromSegment;
   }
   for (const double holeX : { -m_HalfLength, m_HalfLength })
   {
@@ -239,18 +251,19 @@ Genus2Oracle::ClosestPlatePoint(const Vector3 & query) const
     const double  distanceToHoleCenter = Norm(fromHole);
     if (distanceToHoleCenter < m_HoleRadius)
     {
-      const Vector3 direction = distanceToHoleCenter > DegenerateLength ? (1.0 / distanceToHoleCenter) * fromHole
-                                                                        : Vector3{ { 1.0, 0.0, 0.0 } };
-      return m_Center + Vector3{ { holeX, 0.0, 0.0 } } + m_HoleRadius * direction;
+      const Vector3 direction = distanceToHoleCenter > DegenerateRelativeLength * m_HoleRadius
+                                  ? (1.0 / distanceToHoleCenter) * fromHole
+                                  : Vector3{ { 1.0, 0.0, 0.0 } };
+      return Vector3{ { holeX, 0.0, 0.0 } } + m_HoleRadius * direction;
     }
   }
-  return m_Center + inPlane;
+  return inPlane;
 }
 
 Label
 Genus2Oracle::LabelAt(const Vector3 & point) const
 {
-  return SquaredNorm(point - ClosestPlatePoint(point)) < m_Thickness * m_Thickness ? 1 : BackgroundLabel;
+  return SquaredNorm(point - m_Center - ClosestPlatePoint(point)) < m_Thickness * m_Thickness ? 1 : BackgroundLabel;
 }
 
 AxisAlignedBox
@@ -263,7 +276,7 @@ Genus2Oracle::ObjectBounds() const
 SurfacePoint
 Genus2Oracle::ClosestSurfacePoint(const Vector3 & query) const
 {
-  return OffsetSurfacePoint(query, ClosestPlatePoint(query), m_Thickness, UnitZ);
+  return FromLocal(OffsetSurfacePoint(query - m_Center, ClosestPlatePoint(query), m_Thickness, UnitZ), m_Center);
 }
 
 double

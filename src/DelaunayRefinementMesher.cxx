@@ -142,10 +142,12 @@ struct QueueEntry
   uint64_t   stamp;
   QueueLevel level;
   double     squaredRadius;
-  uint64_t   sequence;
+  /** The cell's vertex ids, sorted: a tie-break that depends on the geometry and the (canonical) insertion
+   * order only, never on memory addresses, which CGAL's vertex removal lets leak into container orders. */
+  std::array<uint64_t, 4> vertexIds;
 };
 
-/** Largest tetrahedra first within a level, then first-come first-served, for determinism. */
+/** Largest tetrahedra first within a level; equal sizes (co-spherical cells) by vertex ids, for determinism. */
 struct QueueEntryOrder
 {
   bool
@@ -159,7 +161,7 @@ struct QueueEntryOrder
     {
       return a.squaredRadius < b.squaredRadius;
     }
-    return a.sequence > b.sequence;
+    return a.vertexIds > b.vertexIds;
   }
 };
 
@@ -354,13 +356,23 @@ private:
     return std::nullopt;
   }
 
+  static std::array<uint64_t, 4>
+  SortedVertexIds(CellHandle cell)
+  {
+    std::array<uint64_t, 4> ids{
+      cell->vertex(0)->info().id, cell->vertex(1)->info().id, cell->vertex(2)->info().id, cell->vertex(3)->info().id
+    };
+    std::sort(ids.begin(), ids.end());
+    return ids;
+  }
+
   void
   Enqueue(CellHandle cell)
   {
     const std::optional<QueueLevel> level = Classify(cell);
     if (level)
     {
-      m_Queue.push({ cell, cell->cache.stamp, *level, cell->cache.squaredRadius, m_NextSequence++ });
+      m_Queue.push({ cell, cell->cache.stamp, *level, cell->cache.squaredRadius, SortedVertexIds(cell) });
     }
   }
 
@@ -407,6 +419,10 @@ private:
     {
       return Action{ Rule::R3, *surfaceBallCenter };
     }
+    // R4. ALGORITHM.md calls a tetrahedron skinny only when it is not intersecting; we also split
+    // intersecting ones (left here by R1-R3 with r < 2δ), because otherwise an output tetrahedron can have
+    // radius-edge ratio up to 2 > ρ when ρ < 2 (the paper's proof of Theorem 2 skips this case). For ρ >= 2
+    // nothing changes: such a tetrahedron has r < 2δ and every edge >= δ (Lemma 2), so its ratio is < 2.
     if (cache.label != BackgroundLabel)
     {
       const std::array<Vector3, 4> corners = CornersOf(cell);
@@ -614,30 +630,57 @@ private:
     return std::nullopt;
   }
 
+  /** Where the segment from `inside` (strictly inside the box) to `outside` (on or outside it) leaves the
+   * box, put exactly onto the face it leaves through. */
+  Vector3
+  BoxExitPoint(const Vector3 & inside, const Vector3 & outside) const
+  {
+    const Vector3 direction = outside - inside;
+    double        exitParameter = 1.0;
+    int           exitAxis = 0;
+    double        exitCoordinate = outside[0];
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      const double bound = direction[axis] > 0.0 ? m_Box.upper[axis] : m_Box.lower[axis];
+      if (direction[axis] != 0.0 && (bound - inside[axis]) / direction[axis] <= exitParameter)
+      {
+        exitParameter = (bound - inside[axis]) / direction[axis];
+        exitAxis = axis;
+        exitCoordinate = bound;
+      }
+    }
+    Vector3 exit = inside + exitParameter * direction;
+    exit[exitAxis] = exitCoordinate;
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      exit[axis] = std::clamp(exit[axis], m_Box.lower[axis], m_Box.upper[axis]);
+    }
+    return exit;
+  }
+
   /** The box facet that stands between the tetrahedron and its circumcentre `point` (on or outside the box):
-   * the convex-hull facet where a walk from the tetrahedron towards the point leaves the triangulation. Its
-   * diametral ball covers the part of the tetrahedron's circumsphere inside the box (the paper's Fig. 1b),
-   * although it need not hold the point itself. Returns the facet's circumcentre and squared circumradius. */
+   * the convex-hull facet holding the point where the segment from the tetrahedron's centroid to `point`
+   * leaves the box. Its diametral ball covers the part of the tetrahedron's circumsphere inside the box (the
+   * paper's Fig. 1b), although it need not hold `point` itself. Chosen geometrically, not by a walk, so that
+   * the choice is deterministic. Returns the facet's circumcentre and squared circumradius. */
   std::optional<std::pair<Vector3, double>>
   FindBoxFacetToward(const Vector3 & point, CellHandle cell) const
   {
     const std::array<Vector3, 4> corners = CornersOf(cell);
     const Vector3                centroid = 0.25 * (corners[0] + corners[1] + corners[2] + corners[3]);
-    // A point on the box would be located on the hull itself; nudge it outwards along the walk.
-    const Vector3              outward = point - centroid;
-    const Vector3              target = point + (1e-9 * Distance(m_Box.lower, m_Box.upper) / Norm(outward)) * outward;
-    Triangulation::Locate_type locateType;
-    int                        vertexIndex = 0;
-    int                        secondVertexIndex = 0;
-    const CellHandle located = m_Triangulation.locate(ToCgal(target), locateType, vertexIndex, secondVertexIndex, cell);
-    if (locateType != Triangulation::OUTSIDE_CONVEX_HULL)
+    const Vector3                exit = BoxExitPoint(centroid, point);
+    Triangulation::Locate_type   locateType;
+    int                          facetIndex = 0;
+    int                          unusedIndex = 0;
+    const CellHandle located = m_Triangulation.locate(ToCgal(exit), locateType, facetIndex, unusedIndex, cell);
+    if (locateType != Triangulation::FACET)
     {
+      // The exit point is on an edge or a vertex of the hull's triangulation (a measure-zero case).
       return std::nullopt;
     }
-    const int         infiniteIndex = located->index(m_Triangulation.infinite_vertex());
-    const CgalPoint & a = located->vertex((infiniteIndex + 1) & 3)->point();
-    const CgalPoint & b = located->vertex((infiniteIndex + 2) & 3)->point();
-    const CgalPoint & c = located->vertex((infiniteIndex + 3) & 3)->point();
+    const CgalPoint & a = located->vertex((facetIndex + 1) & 3)->point();
+    const CgalPoint & b = located->vertex((facetIndex + 2) & 3)->point();
+    const CgalPoint & c = located->vertex((facetIndex + 3) & 3)->point();
     Vector3           center = ToVector(m_Circumcenter(a, b, c));
     SnapOntoFacePlane(center, { ToVector(a), ToVector(b), ToVector(c) });
     return std::make_pair(center, SquaredNorm(center - ToVector(a)));
@@ -786,22 +829,58 @@ private:
 
   // ---- Output -------------------------------------------------------------------------------------------
 
-  uint32_t
-  OutputIndexOf(VertexHandle vertex, TetrahedralMesh & mesh)
+  /** The output's vertices: those of the object's tetrahedra, numbered in insertion order, which (unlike
+   * the triangulation's container order) does not depend on memory addresses. */
+  void
+  NumberOutputVertices(const std::vector<CellHandle> & objectCells, TetrahedralMesh & mesh) const
   {
-    uint32_t & index = vertex->info().outputIndex;
-    if (index == std::numeric_limits<uint32_t>::max())
+    std::vector<VertexHandle> vertices;
+    for (CellHandle cell : objectCells)
     {
-      index = static_cast<uint32_t>(mesh.points.size());
+      for (int corner = 0; corner < 4; ++corner)
+      {
+        vertices.push_back(cell->vertex(corner));
+      }
+    }
+    std::sort(vertices.begin(), vertices.end(), [](const VertexHandle & a, const VertexHandle & b) {
+      return a->info().id < b->info().id;
+    });
+    vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+    for (const VertexHandle & vertex : vertices)
+    {
+      vertex->info().outputIndex = static_cast<uint32_t>(mesh.points.size());
       mesh.points.push_back(PointOf(vertex));
       mesh.pointKinds.push_back(vertex->info().kind);
     }
-    return index;
   }
 
-  /** The facet's vertices ordered so that its normal points away from the cell. */
+  /** Sorted indices, with the last two swapped when sorting was an odd permutation: a canonical form that
+   * keeps the orientation. */
+  static std::array<uint32_t, 4>
+  CanonicalTetrahedron(std::array<uint32_t, 4> indices)
+  {
+    bool odd = false;
+    for (int i = 0; i < 4; ++i)
+    {
+      for (int j = 0; j + 1 < 4 - i; ++j)
+      {
+        if (indices[j] > indices[j + 1])
+        {
+          std::swap(indices[j], indices[j + 1]);
+          odd = !odd;
+        }
+      }
+    }
+    if (odd)
+    {
+      std::swap(indices[2], indices[3]);
+    }
+    return indices;
+  }
+
+  /** The facet's vertices ordered so that its normal points away from the cell, smallest index first. */
   std::array<uint32_t, 3>
-  OutwardFacet(CellHandle cell, int facet, TetrahedralMesh & mesh)
+  OutwardFacet(CellHandle cell, int facet) const
   {
     std::array<VertexHandle, 3> vertices{ cell->vertex((facet + 1) & 3),
                                           cell->vertex((facet + 2) & 3),
@@ -812,37 +891,75 @@ private:
     {
       std::swap(vertices[1], vertices[2]);
     }
-    return { OutputIndexOf(vertices[0], mesh), OutputIndexOf(vertices[1], mesh), OutputIndexOf(vertices[2], mesh) };
+    std::array<uint32_t, 3> triangle{ vertices[0]->info().outputIndex,
+                                      vertices[1]->info().outputIndex,
+                                      vertices[2]->info().outputIndex };
+    std::rotate(triangle.begin(), std::min_element(triangle.begin(), triangle.end()), triangle.end());
+    return triangle;
   }
 
-  TetrahedralMesh
-  ExtractMesh()
+  void
+  AddTetrahedra(const std::vector<CellHandle> & objectCells, TetrahedralMesh & mesh) const
   {
-    TetrahedralMesh mesh;
-    for (auto cell = m_Triangulation.finite_cells_begin(); cell != m_Triangulation.finite_cells_end(); ++cell)
+    std::vector<std::pair<std::array<uint32_t, 4>, Label>> tetrahedra;
+    for (CellHandle cell : objectCells)
+    {
+      tetrahedra.emplace_back(CanonicalTetrahedron({ cell->vertex(0)->info().outputIndex,
+                                                     cell->vertex(1)->info().outputIndex,
+                                                     cell->vertex(2)->info().outputIndex,
+                                                     cell->vertex(3)->info().outputIndex }),
+                              cell->cache.label);
+    }
+    std::sort(tetrahedra.begin(), tetrahedra.end());
+    for (const auto & [indices, label] : tetrahedra)
+    {
+      mesh.tetrahedra.push_back(indices);
+      mesh.tetrahedronLabels.push_back(label);
+    }
+  }
+
+  /** Each interface once: from the tissue side when the other side is background, else from the smaller
+   * label. */
+  void
+  AddBoundaryTriangles(const std::vector<CellHandle> & objectCells, TetrahedralMesh & mesh) const
+  {
+    std::vector<std::pair<std::array<uint32_t, 3>, std::array<Label, 2>>> triangles;
+    for (CellHandle cell : objectCells)
     {
       const Label label = cell->cache.label;
-      if (label == BackgroundLabel)
-      {
-        continue;
-      }
-      mesh.tetrahedra.push_back({ OutputIndexOf(cell->vertex(0), mesh),
-                                  OutputIndexOf(cell->vertex(1), mesh),
-                                  OutputIndexOf(cell->vertex(2), mesh),
-                                  OutputIndexOf(cell->vertex(3), mesh) });
-      mesh.tetrahedronLabels.push_back(label);
       for (int facet = 0; facet < 4; ++facet)
       {
         const Label otherLabel = LabelBeyondFacet(cell, facet);
-        // Each interface once: from the tissue side when the other side is background, else from the
-        // smaller label.
         if (otherLabel != label && (otherLabel == BackgroundLabel || label < otherLabel))
         {
-          mesh.boundaryTriangles.push_back(OutwardFacet(cell, facet, mesh));
-          mesh.boundaryTriangleLabels.push_back({ label, otherLabel });
+          triangles.emplace_back(OutwardFacet(cell, facet), std::array<Label, 2>{ label, otherLabel });
         }
       }
     }
+    std::sort(triangles.begin(), triangles.end());
+    for (const auto & [indices, labels] : triangles)
+    {
+      mesh.boundaryTriangles.push_back(indices);
+      mesh.boundaryTriangleLabels.push_back(labels);
+    }
+  }
+
+  /** The tetrahedra whose circumcentre is inside the object, in a canonical order. */
+  TetrahedralMesh
+  ExtractMesh() const
+  {
+    std::vector<CellHandle> objectCells;
+    for (auto cell = m_Triangulation.finite_cells_begin(); cell != m_Triangulation.finite_cells_end(); ++cell)
+    {
+      if (cell->cache.label != BackgroundLabel)
+      {
+        objectCells.push_back(cell);
+      }
+    }
+    TetrahedralMesh mesh;
+    NumberOutputVertices(objectCells, mesh);
+    AddTetrahedra(objectCells, mesh);
+    AddBoundaryTriangles(objectCells, mesh);
     return mesh;
   }
 
@@ -863,7 +980,6 @@ private:
   std::vector<VertexHandle> m_BoxFaceVertices;
 
   std::priority_queue<QueueEntry, std::vector<QueueEntry>, QueueEntryOrder> m_Queue;
-  uint64_t                                                                  m_NextSequence{ 0 };
   uint64_t                                                                  m_NextVertexId{ 0 };
   uint64_t                                                                  m_LastStamp{ 0 };
   std::vector<CellHandle>                                                   m_NewCells;

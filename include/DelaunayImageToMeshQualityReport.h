@@ -1,0 +1,142 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef DelaunayImageToMeshQualityReport_h
+#define DelaunayImageToMeshQualityReport_h
+
+#include "DelaunayImageToMeshSurfaceExtraction.h"
+#include "DelaunayRefinementMeshQuality.h"
+#include "DelaunayRefinementTypes.h"
+
+#include <cstddef>
+#include <ostream>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace delaunay_refinement
+{
+
+/** How a mesh was made and what it cost. The report records these as the caller gives them. */
+struct MeshingRun
+{
+  /** The image the mesh was made from, as named by the user. */
+  std::string inputFile;
+  /** The mesh file written, as named by the user. */
+  std::string outputFile;
+  /** δ actually used, mm. */
+  double surfaceSamplingDistance{ 0.0 };
+  /** ρ, the radius-edge bound. */
+  double radiusEdgeBound{ 0.0 };
+  /** σ of the R4' variant, degrees; 0 = off. */
+  double minimumDihedralAngle{ 0.0 };
+  /** Wall-clock seconds of each phase, in the order they ran (e.g. read, mesh, report, write). */
+  std::vector<std::pair<std::string, double>> phaseSeconds;
+  /** Peak resident memory of the process, bytes (PeakResidentMemoryBytes()); 0 = not measured. */
+  std::size_t peakResidentMemoryBytes{ 0 };
+};
+
+/** The tetrahedra carrying one label, and their boundary against the background and the other labels. */
+struct LabelQuality
+{
+  Label       label{ BackgroundLabel };
+  std::size_t vertices{ 0 };
+  std::size_t tetrahedra{ 0 };
+  /** Volume of the label's tetrahedra, mm³. */
+  double meshVolume{ 0.0 };
+  /** The label's voxels in the segmentation × the voxel volume, mm³. */
+  double segmentedVolume{ 0.0 };
+  /** The label's boundary: the boundary triangles with this label on one of their sides; their number,
+   * manifoldness, components, genus and smallest planar angle. */
+  SurfaceTopology boundary;
+};
+
+/** Each tetrahedron's smallest dihedral angle, counted in bins of `binWidth` degrees from 0°: counts[i] is the
+ * number of tetrahedra whose smallest dihedral angle is in [i · binWidth, (i + 1) · binWidth). The bins cover
+ * [0°, 90°), which holds every tetrahedron's smallest dihedral angle (at most 70.53°, the regular one's). */
+struct AngleHistogram
+{
+  double                   binWidth{ 2.0 };
+  std::vector<std::size_t> counts;
+};
+
+/** Quality and fidelity of a labelled tetrahedral mesh against the segmentation it was made from. */
+struct QualityReport
+{
+  MeshingRun  run;
+  std::size_t vertices{ 0 };
+  std::size_t tetrahedra{ 0 };
+  std::size_t boundaryTriangles{ 0 };
+  /** Dihedral angles of all tetrahedra, degrees. */
+  double minimumDihedralAngle{ 0.0 };
+  double maximumDihedralAngle{ 0.0 };
+  /** Largest circumradius / shortest edge of any tetrahedron (< ρ is guaranteed). */
+  double maximumRadiusEdgeRatio{ 0.0 };
+  /** Tetrahedra with signed volume <= 0 (expected: 0). */
+  std::size_t invertedTetrahedra{ 0 };
+  /** Smallest planar angle of any boundary triangle, degrees (> 30° is guaranteed when σ = 0). */
+  double minimumBoundaryPlanarAngle{ 0.0 };
+  /** Non-manifold edges and vertices summed over the labels' boundaries (0 for a closed 2-manifold). The
+   * boundaries are checked label by label because three labels meeting along a curve are a legitimate
+   * non-manifold junction of the whole interface complex. */
+  std::size_t nonManifoldEdges{ 0 };
+  std::size_t nonManifoldVertices{ 0 };
+  double      meshVolume{ 0.0 };
+  double      segmentedVolume{ 0.0 };
+  /** Two-sided distance between the mesh's boundary triangles and the marching-cubes surface of the
+   * segmentation (ExtractLabelSurfaces()), both sampled every `distanceSampleSpacing` mm. */
+  DistanceStatistics distanceToMarchingCubes;
+  double             distanceSampleSpacing{ 0.0 };
+  AngleHistogram     minimumDihedralAngleHistogram;
+  /** One entry per label of the mesh or of the segmentation, in increasing label order. */
+  std::vector<LabelQuality> labels;
+
+  /** Whether every label's boundary is a closed 2-manifold. */
+  bool
+  IsManifold() const
+  {
+    return nonManifoldEdges == 0 && nonManifoldVertices == 0;
+  }
+};
+
+/** Measures `mesh` and compares it with `segmentation`, the voxels of the labels that were meshed (every
+ * other voxel 0). The distance samples are spaced half the smallest voxel spacing apart, fine enough to see
+ * the marching-cubes surface's voxel-sized features. `report.run` is left for the caller to fill.
+ * \throws std::invalid_argument if the mesh arrays are inconsistent (a label missing, a point index out of
+ * range). */
+QualityReport
+ComputeQualityReport(const TetrahedralMesh & mesh, const LabelVolume & segmentation);
+
+/** Prints the report as a short table of aligned columns, for people. */
+void
+PrintQualityReport(const QualityReport & report, std::ostream & out);
+
+/** Writes the report as a JSON object, for programs; non-finite numbers are written as null. */
+void
+WriteQualityReportJson(const QualityReport & report, std::ostream & out);
+
+/** WriteQualityReportJson() to a file. \throws std::runtime_error if the file cannot be written. */
+void
+WriteQualityReportJsonFile(const QualityReport & report, const std::string & fileName);
+
+/** The peak resident memory of this process so far, bytes (getrusage); 0 where it cannot be measured. */
+std::size_t
+PeakResidentMemoryBytes();
+
+} // namespace delaunay_refinement
+
+#endif

@@ -1,0 +1,579 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "DelaunayImageToMeshQualityReport.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iomanip>
+#include <locale>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+#if !defined(_WIN32)
+#  include <sys/resource.h>
+#endif
+
+namespace delaunay_refinement
+{
+namespace
+{
+
+constexpr double HistogramRangeDegrees = 90.0;
+constexpr double HistogramBinWidthDegrees = 2.0;
+
+void
+CheckMeshArrays(const TetrahedralMesh & mesh)
+{
+  for (const auto & tetrahedron : mesh.tetrahedra)
+  {
+    for (const uint32_t point : tetrahedron)
+    {
+      if (point >= mesh.points.size())
+      {
+        throw std::invalid_argument("ComputeQualityReport: a tetrahedron uses point index " + std::to_string(point) +
+                                    ", but the mesh has only " + std::to_string(mesh.points.size()) + " points.");
+      }
+    }
+  }
+  if (mesh.tetrahedronLabels.size() != mesh.tetrahedra.size() ||
+      mesh.boundaryTriangleLabels.size() != mesh.boundaryTriangles.size())
+  {
+    throw std::invalid_argument(
+      "ComputeQualityReport: the mesh needs one label per tetrahedron (" +
+      std::to_string(mesh.tetrahedronLabels.size()) + " for " + std::to_string(mesh.tetrahedra.size()) +
+      ") and one label pair per boundary triangle (" + std::to_string(mesh.boundaryTriangleLabels.size()) + " for " +
+      std::to_string(mesh.boundaryTriangles.size()) + ").");
+  }
+}
+
+double
+TetrahedronVolume(const TetrahedralMesh & mesh, const std::array<uint32_t, 4> & tetrahedron)
+{
+  const Vector3 & origin = mesh.points[tetrahedron[0]];
+  return Dot(mesh.points[tetrahedron[1]] - origin,
+             Cross(mesh.points[tetrahedron[2]] - origin, mesh.points[tetrahedron[3]] - origin)) /
+         6.0;
+}
+
+/** The volume of one voxel: the spacing's product, scaled by |det(direction)| in case the direction is not
+ * orthonormal. */
+double
+VoxelVolume(const LabelVolume & volume)
+{
+  const auto & d = volume.direction;
+  const double determinant = d[0][0] * (d[1][1] * d[2][2] - d[1][2] * d[2][1]) -
+                             d[0][1] * (d[1][0] * d[2][2] - d[1][2] * d[2][0]) +
+                             d[0][2] * (d[1][0] * d[2][1] - d[1][1] * d[2][0]);
+  return std::abs(determinant) * volume.spacing[0] * volume.spacing[1] * volume.spacing[2];
+}
+
+/** Tetrahedra, vertices and volumes of every label of the mesh or of the segmentation. */
+std::map<Label, LabelQuality>
+MeasureLabels(const TetrahedralMesh & mesh, const LabelVolume & segmentation)
+{
+  std::map<Label, LabelQuality>      labels;
+  std::map<Label, std::vector<bool>> usesPoint;
+  for (std::size_t i = 0; i < mesh.tetrahedra.size(); ++i)
+  {
+    LabelQuality & quality = labels[mesh.tetrahedronLabels[i]];
+    ++quality.tetrahedra;
+    quality.meshVolume += TetrahedronVolume(mesh, mesh.tetrahedra[i]);
+    std::vector<bool> & used = usesPoint[mesh.tetrahedronLabels[i]];
+    used.resize(mesh.points.size(), false);
+    for (const uint32_t point : mesh.tetrahedra[i])
+    {
+      used[point] = true;
+    }
+  }
+  for (const auto & labelAndUse : usesPoint)
+  {
+    labels[labelAndUse.first].vertices =
+      static_cast<std::size_t>(std::count(labelAndUse.second.begin(), labelAndUse.second.end(), true));
+  }
+
+  const double voxelVolume = VoxelVolume(segmentation);
+  for (const Label label : segmentation.labels)
+  {
+    if (label != BackgroundLabel)
+    {
+      labels[label].segmentedVolume += voxelVolume;
+    }
+  }
+  for (auto & labelAndQuality : labels)
+  {
+    labelAndQuality.second.label = labelAndQuality.first;
+    labelAndQuality.second.boundary = ComputeLabelBoundaryTopology(mesh, labelAndQuality.first);
+  }
+  return labels;
+}
+
+AngleHistogram
+HistogramOf(const std::vector<double> & anglesInDegrees)
+{
+  AngleHistogram histogram;
+  histogram.binWidth = HistogramBinWidthDegrees;
+  histogram.counts.assign(static_cast<std::size_t>(HistogramRangeDegrees / HistogramBinWidthDegrees), 0);
+  for (const double angle : anglesInDegrees)
+  {
+    // A degenerate tetrahedron has no defined angle; it is counted among the inverted ones instead.
+    if (std::isfinite(angle))
+    {
+      const auto bin = static_cast<std::size_t>(std::max(angle, 0.0) / histogram.binWidth);
+      ++histogram.counts[std::min(bin, histogram.counts.size() - 1)];
+    }
+  }
+  return histogram;
+}
+
+void
+AddTetrahedronQuality(const TetrahedralMesh & mesh, QualityReport & report)
+{
+  const TetrahedronQuality quality = ComputeTetrahedronQuality(mesh);
+  report.minimumDihedralAngle = quality.minimumDihedralAngle;
+  report.maximumDihedralAngle = quality.maximumDihedralAngle;
+  report.maximumRadiusEdgeRatio = quality.maximumRadiusEdgeRatio;
+  report.invertedTetrahedra = quality.invertedTetrahedra + quality.malformedTetrahedra;
+  report.minimumDihedralAngleHistogram = HistogramOf(quality.minimumDihedralAngles);
+}
+
+void
+AddLabelQualities(const TetrahedralMesh & mesh, const LabelVolume & segmentation, QualityReport & report)
+{
+  report.minimumBoundaryPlanarAngle = 180.0;
+  for (const auto & labelAndQuality : MeasureLabels(mesh, segmentation))
+  {
+    const LabelQuality & quality = labelAndQuality.second;
+    report.labels.push_back(quality);
+    report.meshVolume += quality.meshVolume;
+    report.segmentedVolume += quality.segmentedVolume;
+    report.nonManifoldEdges += quality.boundary.nonManifoldEdges;
+    report.nonManifoldVertices += quality.boundary.nonManifoldVertices;
+    // Every boundary triangle bounds the label on its inner side, so the labels' minima cover all triangles.
+    report.minimumBoundaryPlanarAngle =
+      std::min(report.minimumBoundaryPlanarAngle, quality.boundary.minimumPlanarAngle);
+  }
+}
+
+void
+AddDistanceToMarchingCubes(const TetrahedralMesh & mesh, const LabelVolume & segmentation, QualityReport & report)
+{
+  const TriangleSurface reference = ExtractLabelSurfaces(segmentation);
+  report.distanceSampleSpacing = 0.5 * *std::min_element(segmentation.spacing.begin(), segmentation.spacing.end());
+  report.distanceToMarchingCubes =
+    ComputeTwoSidedDistance(
+      mesh.points, mesh.boundaryTriangles, reference.points, reference.triangles, report.distanceSampleSpacing)
+      .combined;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// JSON, written by hand: the report is flat enough that a JSON library would be a dependency for nothing.
+
+std::string
+JsonString(const std::string & text)
+{
+  std::string quoted = "\"";
+  for (const char character : text)
+  {
+    switch (character)
+    {
+      case '"':
+        quoted += "\\\"";
+        break;
+      case '\\':
+        quoted += "\\\\";
+        break;
+      case '\n':
+        quoted += "\\n";
+        break;
+      case '\t':
+        quoted += "\\t";
+        break;
+      default:
+        if (static_cast<unsigned char>(character) < 0x20)
+        {
+          char escaped[8];
+          std::snprintf(escaped, sizeof(escaped), "\\u%04x", static_cast<unsigned int>(character));
+          quoted += escaped;
+        }
+        else
+        {
+          quoted += character;
+        }
+    }
+  }
+  return quoted + "\"";
+}
+
+/** JSON has no infinity or NaN: a distance to an empty surface, say, becomes null. */
+std::string
+JsonNumber(double value)
+{
+  if (!std::isfinite(value))
+  {
+    return "null";
+  }
+  std::ostringstream text;
+  text.imbue(std::locale::classic());
+  text << std::setprecision(10) << value;
+  return text.str();
+}
+
+std::string
+JsonNumber(std::size_t value)
+{
+  return std::to_string(value);
+}
+
+std::string
+JsonNumber(int value)
+{
+  return std::to_string(value);
+}
+
+template <typename TValue>
+std::string
+JsonArray(const std::vector<TValue> & values)
+{
+  std::string array = "[";
+  for (std::size_t i = 0; i < values.size(); ++i)
+  {
+    array += (i == 0 ? "" : ", ") + JsonNumber(values[i]);
+  }
+  return array + "]";
+}
+
+/** Builds one JSON object member by member; nested objects are built first and added as values. */
+class JsonObject
+{
+public:
+  explicit JsonObject(int depth)
+    : m_Depth(depth)
+  {}
+
+  JsonObject &
+  Add(const std::string & name, const std::string & jsonValue)
+  {
+    m_Text += (m_Text.empty() ? "{\n" : ",\n") + Indent(m_Depth + 1) + JsonString(name) + ": " + jsonValue;
+    return *this;
+  }
+
+  std::string
+  Text() const
+  {
+    return m_Text.empty() ? "{}" : m_Text + "\n" + Indent(m_Depth) + "}";
+  }
+
+private:
+  static std::string
+  Indent(int depth)
+  {
+    return std::string(2 * static_cast<std::size_t>(depth), ' ');
+  }
+
+  int         m_Depth;
+  std::string m_Text;
+};
+
+std::string
+ParametersJson(const MeshingRun & run, int depth)
+{
+  return JsonObject(depth)
+    .Add("delta_mm", JsonNumber(run.surfaceSamplingDistance))
+    .Add("radius_edge_bound", JsonNumber(run.radiusEdgeBound))
+    .Add("min_dihedral_angle_deg", JsonNumber(run.minimumDihedralAngle))
+    .Text();
+}
+
+std::string
+QualityJson(const QualityReport & report, int depth)
+{
+  return JsonObject(depth)
+    .Add("min_dihedral_angle_deg", JsonNumber(report.minimumDihedralAngle))
+    .Add("max_dihedral_angle_deg", JsonNumber(report.maximumDihedralAngle))
+    .Add("max_radius_edge_ratio", JsonNumber(report.maximumRadiusEdgeRatio))
+    .Add("min_boundary_planar_angle_deg", JsonNumber(report.minimumBoundaryPlanarAngle))
+    .Add("inverted_tetrahedra", JsonNumber(report.invertedTetrahedra))
+    .Add("manifold", report.IsManifold() ? "true" : "false")
+    .Add("non_manifold_edges", JsonNumber(report.nonManifoldEdges))
+    .Add("non_manifold_vertices", JsonNumber(report.nonManifoldVertices))
+    .Text();
+}
+
+std::string
+DistanceJson(const QualityReport & report, int depth)
+{
+  const DistanceStatistics & distance = report.distanceToMarchingCubes;
+  return JsonObject(depth)
+    .Add("sample_spacing_mm", JsonNumber(report.distanceSampleSpacing))
+    .Add("samples", JsonNumber(distance.count))
+    .Add("mean_mm", JsonNumber(distance.mean))
+    .Add("percentile95_mm", JsonNumber(distance.percentile95))
+    .Add("max_mm", JsonNumber(distance.maximum))
+    .Text();
+}
+
+/** The genus of a surface that is not a closed manifold means nothing: it is written as null. */
+std::string
+LabelJson(const LabelQuality & quality, int depth)
+{
+  const SurfaceTopology & boundary = quality.boundary;
+  return JsonObject(depth)
+    .Add("label", JsonNumber(quality.label))
+    .Add("vertices", JsonNumber(quality.vertices))
+    .Add("tetrahedra", JsonNumber(quality.tetrahedra))
+    .Add("boundary_triangles", JsonNumber(boundary.numberOfTriangles))
+    .Add("mesh_volume_mm3", JsonNumber(quality.meshVolume))
+    .Add("segmented_volume_mm3", JsonNumber(quality.segmentedVolume))
+    .Add("boundary_components", JsonNumber(boundary.numberOfComponents))
+    .Add("boundary_genus", boundary.IsClosedManifold() ? JsonNumber(boundary.totalGenus) : "null")
+    .Add("boundary_component_genera", boundary.IsClosedManifold() ? JsonArray(boundary.componentGenera) : "null")
+    .Add("non_manifold_edges", JsonNumber(boundary.nonManifoldEdges))
+    .Add("non_manifold_vertices", JsonNumber(boundary.nonManifoldVertices))
+    .Add("min_planar_angle_deg", JsonNumber(boundary.minimumPlanarAngle))
+    .Text();
+}
+
+std::string
+LabelsJson(const std::vector<LabelQuality> & labels, int depth)
+{
+  std::string array = "[";
+  for (std::size_t i = 0; i < labels.size(); ++i)
+  {
+    array += (i == 0 ? "\n" : ",\n") + std::string(2 * static_cast<std::size_t>(depth + 1), ' ') +
+             LabelJson(labels[i], depth + 1);
+  }
+  return labels.empty() ? "[]" : array + "\n" + std::string(2 * static_cast<std::size_t>(depth), ' ') + "]";
+}
+
+std::string
+HistogramJson(const AngleHistogram & histogram, int depth)
+{
+  return JsonObject(depth)
+    .Add("bin_width_deg", JsonNumber(histogram.binWidth))
+    .Add("counts", JsonArray(histogram.counts))
+    .Text();
+}
+
+std::string
+PhaseSecondsJson(const MeshingRun & run, int depth)
+{
+  JsonObject phases(depth);
+  for (const auto & phaseAndSeconds : run.phaseSeconds)
+  {
+    phases.Add(phaseAndSeconds.first, JsonNumber(phaseAndSeconds.second));
+  }
+  return phases.Text();
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// The table.
+
+std::string
+Fixed(double value, int decimals)
+{
+  std::ostringstream text;
+  text.imbue(std::locale::classic());
+  text << std::fixed << std::setprecision(decimals) << value;
+  return text.str();
+}
+
+std::string
+SignedPercent(double part, double whole)
+{
+  const double percent = 100.0 * (part - whole) / whole;
+  return (percent >= 0.0 ? "+" : "") + Fixed(percent, 2) + "%";
+}
+
+void
+PrintRow(std::ostream & out, const std::string & name, const std::string & value)
+{
+  out << "  " << std::left << std::setw(28) << name << value << '\n';
+}
+
+std::string
+PhasesText(const MeshingRun & run)
+{
+  std::string text;
+  for (const auto & phaseAndSeconds : run.phaseSeconds)
+  {
+    text += (text.empty() ? "" : ", ") + phaseAndSeconds.first + " " + Fixed(phaseAndSeconds.second, 2) + " s";
+  }
+  return text;
+}
+
+void
+PrintSummary(const QualityReport & report, std::ostream & out)
+{
+  const MeshingRun & run = report.run;
+  PrintRow(out, "input", run.inputFile);
+  PrintRow(out, "output", run.outputFile);
+  PrintRow(out,
+           "delta / rho / sigma",
+           Fixed(run.surfaceSamplingDistance, 3) + " mm / " + Fixed(run.radiusEdgeBound, 2) + " / " +
+             (run.minimumDihedralAngle > 0.0 ? Fixed(run.minimumDihedralAngle, 1) + " deg" : "off"));
+  PrintRow(out, "vertices", std::to_string(report.vertices));
+  PrintRow(out, "tetrahedra", std::to_string(report.tetrahedra));
+  PrintRow(out, "boundary triangles", std::to_string(report.boundaryTriangles));
+  PrintRow(out,
+           "dihedral angle min / max",
+           Fixed(report.minimumDihedralAngle, 2) + " / " + Fixed(report.maximumDihedralAngle, 2) + " deg");
+  PrintRow(out, "max radius-edge ratio", Fixed(report.maximumRadiusEdgeRatio, 3));
+  PrintRow(out, "min boundary planar angle", Fixed(report.minimumBoundaryPlanarAngle, 2) + " deg");
+  PrintRow(out, "inverted tetrahedra", std::to_string(report.invertedTetrahedra));
+  PrintRow(out,
+           "manifold boundaries",
+           std::string(report.IsManifold() ? "yes" : "NO") + " (" + std::to_string(report.nonManifoldEdges) +
+             " non-manifold edges, " + std::to_string(report.nonManifoldVertices) + " non-manifold vertices)");
+  PrintRow(out,
+           "volume mesh / segmented",
+           Fixed(report.meshVolume, 0) + " / " + Fixed(report.segmentedVolume, 0) + " mm^3 (" +
+             SignedPercent(report.meshVolume, report.segmentedVolume) + ")");
+  const DistanceStatistics & distance = report.distanceToMarchingCubes;
+  PrintRow(out,
+           "distance to marching cubes",
+           "mean " + Fixed(distance.mean, 3) + ", p95 " + Fixed(distance.percentile95, 3) + ", max " +
+             Fixed(distance.maximum, 3) + " mm");
+  PrintRow(out, "time", PhasesText(run));
+  PrintRow(out, "peak memory", Fixed(static_cast<double>(run.peakResidentMemoryBytes) / (1024.0 * 1024.0), 1) + " MiB");
+}
+
+void
+PrintLabelTable(const std::vector<LabelQuality> & labels, std::ostream & out)
+{
+  const std::vector<std::pair<std::string, int>> columns{
+    { "label", 7 },       { "vertices", 10 },   { "tetrahedra", 12 }, { "triangles", 11 },      { "mesh mm^3", 12 },
+    { "voxel mm^3", 12 }, { "components", 12 }, { "genus", 7 },       { "non-manif. e/v", 16 }, { "min angle", 11 }
+  };
+  out << "  ";
+  for (const auto & column : columns)
+  {
+    out << std::right << std::setw(column.second) << column.first;
+  }
+  out << '\n';
+  for (const LabelQuality & quality : labels)
+  {
+    const SurfaceTopology &        boundary = quality.boundary;
+    const std::vector<std::string> cells{ std::to_string(quality.label),
+                                          std::to_string(quality.vertices),
+                                          std::to_string(quality.tetrahedra),
+                                          std::to_string(boundary.numberOfTriangles),
+                                          Fixed(quality.meshVolume, 0),
+                                          Fixed(quality.segmentedVolume, 0),
+                                          std::to_string(boundary.numberOfComponents),
+                                          boundary.IsClosedManifold() ? std::to_string(boundary.totalGenus) : "-",
+                                          std::to_string(boundary.nonManifoldEdges) + "/" +
+                                            std::to_string(boundary.nonManifoldVertices),
+                                          Fixed(boundary.minimumPlanarAngle, 2) };
+    out << "  ";
+    for (std::size_t i = 0; i < cells.size(); ++i)
+    {
+      out << std::right << std::setw(columns[i].second) << cells[i];
+    }
+    out << '\n';
+  }
+}
+
+} // namespace
+
+QualityReport
+ComputeQualityReport(const TetrahedralMesh & mesh, const LabelVolume & segmentation)
+{
+  CheckMeshArrays(mesh);
+  QualityReport report;
+  report.vertices = mesh.points.size();
+  report.tetrahedra = mesh.tetrahedra.size();
+  report.boundaryTriangles = mesh.boundaryTriangles.size();
+  AddTetrahedronQuality(mesh, report);
+  AddLabelQualities(mesh, segmentation, report);
+  AddDistanceToMarchingCubes(mesh, segmentation, report);
+  return report;
+}
+
+void
+PrintQualityReport(const QualityReport & report, std::ostream & out)
+{
+  out << "Mesh quality report\n";
+  PrintSummary(report, out);
+  out << '\n';
+  PrintLabelTable(report.labels, out);
+}
+
+void
+WriteQualityReportJson(const QualityReport & report, std::ostream & out)
+{
+  const MeshingRun & run = report.run;
+  out << JsonObject(0)
+           .Add("input", JsonString(run.inputFile))
+           .Add("output", JsonString(run.outputFile))
+           .Add("parameters", ParametersJson(run, 1))
+           .Add("vertices", JsonNumber(report.vertices))
+           .Add("tetrahedra", JsonNumber(report.tetrahedra))
+           .Add("boundary_triangles", JsonNumber(report.boundaryTriangles))
+           .Add("quality", QualityJson(report, 1))
+           .Add("mesh_volume_mm3", JsonNumber(report.meshVolume))
+           .Add("segmented_volume_mm3", JsonNumber(report.segmentedVolume))
+           .Add("distance_to_marching_cubes", DistanceJson(report, 1))
+           .Add("labels", LabelsJson(report.labels, 1))
+           .Add("min_dihedral_angle_histogram", HistogramJson(report.minimumDihedralAngleHistogram, 1))
+           .Add("time_seconds", PhaseSecondsJson(run, 1))
+           .Add("peak_memory_bytes", JsonNumber(run.peakResidentMemoryBytes))
+           .Text()
+      << '\n';
+}
+
+void
+WriteQualityReportJsonFile(const QualityReport & report, const std::string & fileName)
+{
+  std::ofstream file(fileName);
+  if (file)
+  {
+    WriteQualityReportJson(report, file);
+    file.close();
+  }
+  if (!file)
+  {
+    throw std::runtime_error("cannot write the report file \"" + fileName + "\"");
+  }
+}
+
+std::size_t
+PeakResidentMemoryBytes()
+{
+#if defined(_WIN32)
+  return 0;
+#else
+  struct rusage usage
+  {};
+  if (getrusage(RUSAGE_SELF, &usage) != 0)
+  {
+    return 0;
+  }
+#  if defined(__APPLE__)
+  constexpr std::size_t bytesPerUnit = 1;
+#  else
+  // Linux reports kibibytes.
+  constexpr std::size_t bytesPerUnit = 1024;
+#  endif
+  return static_cast<std::size_t>(usage.ru_maxrss) * bytesPerUnit;
+#endif
+}
+
+} // namespace delaunay_refinement

@@ -1,0 +1,843 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+
+// The refinement core on analytic shapes. Every guarantee of ALGORITHM.md is recomputed here from the
+// produced mesh with the independent measures of DelaunayRefinementMeshQuality.h; nothing the refinement
+// reports about itself is trusted, and no bound is loosened beyond floating-point slack.
+
+#include "DelaunayRefinementAnalyticOracles.h"
+#include "DelaunayRefinementMeshQuality.h"
+#include "DelaunayRefinementMesher.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <iomanip>
+#include <iostream>
+#include <limits>
+#include <map>
+#include <memory>
+#include <set>
+#include <sstream>
+#include <string>
+#include <tuple>
+#include <unordered_map>
+#include <vector>
+
+namespace delaunay_refinement
+{
+namespace
+{
+
+/** Relative slack for lengths that the theory bounds exactly: only floating-point rounding may eat into it. */
+constexpr double RoundingSlack = 1e-9;
+
+/** Samples of the exact surface for the surface-to-mesh distance: at least this many, and enough for about
+ * one per (δ/4)^2 of surface, so that the sampling's gaps stay well below δ on large surfaces. */
+constexpr std::size_t MinimumSurfaceSampleCount = 20000;
+constexpr std::size_t MaximumSurfaceSampleCount = 2000000;
+
+enum class Shape
+{
+  Sphere,
+  Torus,
+  TwoSpheres,
+  Genus2,
+  NestedSpheres
+};
+
+const char *
+ShapeName(Shape shape)
+{
+  switch (shape)
+  {
+    case Shape::Sphere:
+      return "Sphere";
+    case Shape::Torus:
+      return "Torus";
+    case Shape::TwoSpheres:
+      return "TwoSpheres";
+    case Shape::Genus2:
+      return "Genus2";
+    case Shape::NestedSpheres:
+      return "NestedSpheres";
+  }
+  return "Unknown";
+}
+
+/** The shapes, off the origin and off the axes so that nothing relies on a symmetric placement. Minimum local
+ * feature sizes: sphere 10, torus min(4, 10 - 4) = 4, two spheres half the gap = 3.5, genus 2 min(2, 4 - 2) = 2,
+ * nested spheres min(5, (10 - 5) / 2) = 2.5. */
+const AnalyticOracle &
+OracleOf(Shape shape)
+{
+  static const SphereOracle        sphere({ { 1.5, -2.25, 0.75 } }, 10.0);
+  static const TorusOracle         torus({ { 0.5, 0.25, -0.5 } }, 10.0, 4.0);
+  static const TwoSpheresOracle    twoSpheres({ { -9.0, 0.0, 0.5 } }, 6.0, { { 9.0, 0.5, 0.0 } }, 5.0);
+  static const Genus2Oracle        genus2({ { 0.25, -0.5, 0.5 } }, 8.0, 7.0, 4.0, 2.0);
+  static const NestedSpheresOracle nestedSpheres({ { -0.5, 1.0, 0.25 } }, 5.0, 10.0);
+  switch (shape)
+  {
+    case Shape::Sphere:
+      return sphere;
+    case Shape::Torus:
+      return torus;
+    case Shape::TwoSpheres:
+      return twoSpheres;
+    case Shape::Genus2:
+      return genus2;
+    case Shape::NestedSpheres:
+      return nestedSpheres;
+  }
+  throw std::logic_error("unknown shape");
+}
+
+RefinementParameters
+ParametersOf(double delta, double rho, double sigma = 0.0)
+{
+  RefinementParameters parameters;
+  parameters.surfaceSamplingDistance = delta;
+  parameters.radiusEdgeBound = rho;
+  parameters.minimumDihedralAngle = sigma;
+  return parameters;
+}
+
+/** Result of the facet-by-facet comparison of the boundary triangles with the tetrahedra. */
+struct BoundaryConsistency
+{
+  /** Facets whose two sides differ (or with one side outside the mesh) but that are not boundary triangles. */
+  std::size_t missingTriangles{ 0 };
+  /** Boundary triangles that are not such a facet (or appear twice). */
+  std::size_t extraTriangles{ 0 };
+  std::size_t wrongLabels{ 0 };
+  /** Boundary triangles whose normal does not point away from the side labelled boundaryTriangleLabels[i][0]. */
+  std::size_t wrongOrientation{ 0 };
+  /** Facets shared by more than two tetrahedra: the tetrahedra overlap. */
+  std::size_t overSharedFacets{ 0 };
+};
+
+using SortedTriangle = std::array<uint32_t, 3>;
+
+struct SortedTriangleHash
+{
+  std::size_t
+  operator()(const SortedTriangle & t) const
+  {
+    return (static_cast<std::size_t>(t[0]) * 73856093u) ^ (static_cast<std::size_t>(t[1]) * 19349663u) ^
+           (static_cast<std::size_t>(t[2]) * 83492791u);
+  }
+};
+
+SortedTriangle
+Sorted(SortedTriangle triangle)
+{
+  std::sort(triangle.begin(), triangle.end());
+  return triangle;
+}
+
+/** A tetrahedron seen from one of its facets: which tetrahedron, and its vertex off the facet. */
+struct FacetSide
+{
+  std::size_t tetrahedron;
+  uint32_t    apex;
+};
+
+/** The boundary that the tetrahedra and their labels imply, compared with the mesh's boundary triangles: the
+ * header promises every facet between different labels, once, oriented away from its first label, with the
+ * smaller tissue label first (background last). */
+BoundaryConsistency
+CheckBoundaryAgainstTetrahedra(const TetrahedralMesh & mesh)
+{
+  std::unordered_map<SortedTriangle, std::vector<FacetSide>, SortedTriangleHash> sidesOfFacet;
+  for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
+  {
+    const auto & v = mesh.tetrahedra[t];
+    for (int apex = 0; apex < 4; ++apex)
+    {
+      sidesOfFacet[Sorted({ { v[(apex + 1) % 4], v[(apex + 2) % 4], v[(apex + 3) % 4] } })].push_back({ t, v[apex] });
+    }
+  }
+
+  BoundaryConsistency                            consistency;
+  std::map<SortedTriangle, std::array<Label, 2>> expectedLabels;
+  for (const auto & entry : sidesOfFacet)
+  {
+    const std::vector<FacetSide> & sides = entry.second;
+    if (sides.size() > 2)
+    {
+      ++consistency.overSharedFacets;
+      continue;
+    }
+    const Label first = mesh.tetrahedronLabels[sides[0].tetrahedron];
+    const Label second = sides.size() == 2 ? mesh.tetrahedronLabels[sides[1].tetrahedron] : BackgroundLabel;
+    if (first != second)
+    {
+      expectedLabels[entry.first] = second == BackgroundLabel
+                                      ? std::array<Label, 2>{ { first, second } }
+                                      : std::array<Label, 2>{ { std::min(first, second), std::max(first, second) } };
+    }
+  }
+
+  std::set<SortedTriangle> seen;
+  for (std::size_t i = 0; i < mesh.boundaryTriangles.size(); ++i)
+  {
+    const SortedTriangle key = Sorted(mesh.boundaryTriangles[i]);
+    const auto           expected = expectedLabels.find(key);
+    if (expected == expectedLabels.end() || !seen.insert(key).second)
+    {
+      ++consistency.extraTriangles;
+      continue;
+    }
+    if (mesh.boundaryTriangleLabels[i] != expected->second)
+    {
+      ++consistency.wrongLabels;
+      continue;
+    }
+    // The normal must point away from the tetrahedron that carries the first label: its apex is behind.
+    const auto &    triangle = mesh.boundaryTriangles[i];
+    const Vector3 & p0 = mesh.points[triangle[0]];
+    const Vector3   normal = Cross(mesh.points[triangle[1]] - p0, mesh.points[triangle[2]] - p0);
+    for (const FacetSide & side : sidesOfFacet[key])
+    {
+      if (mesh.tetrahedronLabels[side.tetrahedron] == expected->second[0] &&
+          !(Dot(normal, mesh.points[side.apex] - p0) < 0.0))
+      {
+        ++consistency.wrongOrientation;
+      }
+    }
+  }
+  consistency.missingTriangles = expectedLabels.size() - seen.size();
+  return consistency;
+}
+
+/** A refined mesh and every measure the guarantees are checked on. */
+struct MeshedShape
+{
+  TetrahedralMesh      mesh;
+  RefinementStatistics statistics;
+  double               seconds{ 0.0 };
+  TetrahedronQuality   quality;
+  SurfaceTopology      boundary;
+  ShortestEdgesByKind  shortestEdges;
+  /** Boundary samples (spacing δ/10) to the exact surface. */
+  DistanceStatistics meshToSurface;
+  /** Exact-surface samples to the boundary triangles. */
+  DistanceStatistics surfaceToMesh;
+  /** Largest distance of a feature vertex to the exact surface. */
+  double              largestFeatureOffset{ 0.0 };
+  BoundaryConsistency boundaryConsistency;
+
+  double
+  HausdorffDistance() const
+  {
+    return std::max(meshToSurface.maximum, surfaceToMesh.maximum);
+  }
+};
+
+DistanceStatistics
+MeasureMeshToSurface(const TetrahedralMesh & mesh, const AnalyticOracle & oracle, double spacing)
+{
+  std::vector<double> distances;
+  for (const Vector3 & sample : SampleTriangles(mesh.points, mesh.boundaryTriangles, spacing))
+  {
+    distances.push_back(oracle.ClosestSurfacePoint(sample).distance);
+  }
+  return SummarizeDistances(std::move(distances));
+}
+
+double
+BoundaryArea(const TetrahedralMesh & mesh)
+{
+  double area = 0.0;
+  for (const auto & triangle : mesh.boundaryTriangles)
+  {
+    const Vector3 & p0 = mesh.points[triangle[0]];
+    area += 0.5 * Norm(Cross(mesh.points[triangle[1]] - p0, mesh.points[triangle[2]] - p0));
+  }
+  return area;
+}
+
+std::size_t
+SurfaceSampleCount(const TetrahedralMesh & mesh, double delta)
+{
+  const double samplesForDensity = std::ceil(BoundaryArea(mesh) / (0.0625 * delta * delta));
+  return std::clamp(static_cast<std::size_t>(samplesForDensity), MinimumSurfaceSampleCount, MaximumSurfaceSampleCount);
+}
+
+DistanceStatistics
+MeasureSurfaceToMesh(const TetrahedralMesh & mesh, const AnalyticOracle & oracle, double delta)
+{
+  const TriangleSurfaceDistance boundary(mesh.points, mesh.boundaryTriangles);
+  std::vector<double>           distances;
+  for (const Vector3 & sample : oracle.SampleSurface(SurfaceSampleCount(mesh, delta)))
+  {
+    distances.push_back(boundary.Distance(sample));
+  }
+  return SummarizeDistances(std::move(distances));
+}
+
+double
+LargestFeatureOffset(const TetrahedralMesh & mesh, const AnalyticOracle & oracle)
+{
+  double largest = 0.0;
+  for (std::size_t i = 0; i < mesh.points.size(); ++i)
+  {
+    if (mesh.pointKinds[i] == VertexKind::Feature)
+    {
+      largest = std::max(largest, oracle.ClosestSurfacePoint(mesh.points[i]).distance);
+    }
+  }
+  return largest;
+}
+
+std::unique_ptr<MeshedShape>
+RefineAndMeasure(const AnalyticOracle & oracle, const RefinementParameters & parameters)
+{
+  auto       result = std::make_unique<MeshedShape>();
+  const auto start = std::chrono::steady_clock::now();
+  result->mesh = RefineMesh(oracle, parameters, &result->statistics);
+  result->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  const TetrahedralMesh & mesh = result->mesh;
+  result->quality = ComputeTetrahedronQuality(mesh);
+  result->boundary = ComputeBoundaryTopology(mesh);
+  result->shortestEdges = ComputeShortestEdgesByKind(mesh);
+  result->meshToSurface = MeasureMeshToSurface(mesh, oracle, parameters.surfaceSamplingDistance / 10.0);
+  result->surfaceToMesh = MeasureSurfaceToMesh(mesh, oracle, parameters.surfaceSamplingDistance);
+  result->largestFeatureOffset = LargestFeatureOffset(mesh, oracle);
+  result->boundaryConsistency = CheckBoundaryAgainstTetrahedra(mesh);
+  return result;
+}
+
+/** Several tests look at the same meshes (the table, the labels, determinism): each is refined once per
+ * process. */
+const MeshedShape &
+Meshed(Shape shape, const RefinementParameters & parameters)
+{
+  using Key = std::tuple<Shape, double, double, double>;
+  static std::map<Key, std::unique_ptr<MeshedShape>> cache;
+  const Key                                          key{
+    shape, parameters.surfaceSamplingDistance, parameters.radiusEdgeBound, parameters.minimumDihedralAngle
+  };
+  auto & entry = cache[key];
+  if (!entry)
+  {
+    entry = RefineAndMeasure(OracleOf(shape), parameters);
+  }
+  return *entry;
+}
+
+std::string
+Describe(Shape shape, const RefinementParameters & parameters)
+{
+  std::ostringstream text;
+  text << ShapeName(shape) << " delta=" << parameters.surfaceSamplingDistance << " rho=" << parameters.radiusEdgeBound
+       << " sigma=" << parameters.minimumDihedralAngle;
+  return text.str();
+}
+
+void
+ExpectWellFormed(const MeshedShape & meshed)
+{
+  const TetrahedralMesh & mesh = meshed.mesh;
+  ASSERT_FALSE(mesh.tetrahedra.empty());
+  ASSERT_EQ(mesh.pointKinds.size(), mesh.points.size());
+  ASSERT_EQ(mesh.tetrahedronLabels.size(), mesh.tetrahedra.size());
+  ASSERT_EQ(mesh.boundaryTriangleLabels.size(), mesh.boundaryTriangles.size());
+  EXPECT_EQ(meshed.quality.malformedTetrahedra, 0u);
+  EXPECT_EQ(meshed.quality.duplicateTetrahedra, 0u);
+  EXPECT_EQ(meshed.quality.unusedPoints, 0u);
+  EXPECT_EQ(meshed.quality.invertedTetrahedra, 0u) << "smallest signed volume " << meshed.quality.minimumVolume;
+  EXPECT_GT(meshed.quality.minimumVolume, 0.0);
+  for (const Label label : mesh.tetrahedronLabels)
+  {
+    ASSERT_NE(label, BackgroundLabel) << "a tetrahedron of the output is labelled background";
+  }
+  const BoundaryConsistency & consistency = meshed.boundaryConsistency;
+  EXPECT_EQ(consistency.overSharedFacets, 0u);
+  EXPECT_EQ(consistency.missingTriangles, 0u);
+  EXPECT_EQ(consistency.extraTriangles, 0u);
+  EXPECT_EQ(consistency.wrongLabels, 0u);
+  EXPECT_EQ(consistency.wrongOrientation, 0u);
+}
+
+/** The R4' variant (σ > 0) splits slivers at their circumcentres, which may come closer than δ to other
+ * vertices: Lemma 2, and with it the 30° bound of Theorem 2 and Lemma 5, are then not guaranteed (the paper,
+ * §VI-B, and RefinementParameters::minimumDihedralAngle say so). Those checks apply without R4' only. */
+bool
+UsesSliverRule(const RefinementParameters & parameters)
+{
+  return parameters.minimumDihedralAngle > 0.0;
+}
+
+/** Theorem 2: radius-edge ratio < ρ, boundary planar angles > 30°. With R4': dihedral angles >= σ instead. */
+void
+ExpectQuality(const MeshedShape & meshed, const RefinementParameters & parameters)
+{
+  EXPECT_LT(meshed.quality.maximumRadiusEdgeRatio, parameters.radiusEdgeBound);
+  if (UsesSliverRule(parameters))
+  {
+    EXPECT_GE(meshed.quality.minimumDihedralAngle, parameters.minimumDihedralAngle);
+  }
+  else
+  {
+    EXPECT_GT(meshed.boundary.minimumPlanarAngle, 30.0);
+  }
+}
+
+/** Lemma 2: feature >= δ, free >= min(ρ, 2) δ (R2 inserts at >= 2δ, R4 at >= ρδ), box >= 2δ. The R4' variant
+ * inserts circumcentres of slivers, whose circumradius has no lower bound in δ, so the feature and free
+ * bounds are only checked without it (see UsesSliverRule). */
+void
+ExpectShortestEdges(const MeshedShape & meshed, const RefinementParameters & parameters)
+{
+  const double delta = parameters.surfaceSamplingDistance;
+  const auto & shortest = meshed.shortestEdges.shortestEdge;
+  if (!UsesSliverRule(parameters))
+  {
+    EXPECT_GE(shortest.at(VertexKind::Feature), delta * (1.0 - RoundingSlack));
+    EXPECT_GE(shortest.at(VertexKind::Free), std::min(parameters.radiusEdgeBound, 2.0) * delta * (1.0 - RoundingSlack));
+  }
+  EXPECT_GE(shortest.at(VertexKind::BoxEdge), 2.0 * delta * (1.0 - RoundingSlack));
+  EXPECT_GE(shortest.at(VertexKind::BoxFace), 2.0 * delta * (1.0 - RoundingSlack));
+}
+
+/** Theorem 3 (for δ small against the local feature size): closed manifold boundary with the shape's
+ * components and genus, two-sided Hausdorff distance <= δ. Feature vertices on the surface. */
+void
+ExpectFaithfulBoundary(const MeshedShape & meshed, const AnalyticOracle & oracle,
+                       const RefinementParameters & parameters)
+{
+  const double delta = parameters.surfaceSamplingDistance;
+  EXPECT_EQ(meshed.boundary.nonManifoldEdges, 0u);
+  EXPECT_EQ(meshed.boundary.nonManifoldVertices, 0u);
+  EXPECT_EQ(meshed.boundary.numberOfComponents, oracle.NumberOfSurfaceComponents());
+  EXPECT_EQ(meshed.boundary.totalGenus, oracle.TotalGenus());
+  EXPECT_LE(meshed.meshToSurface.maximum, delta);
+  EXPECT_LE(meshed.surfaceToMesh.maximum, delta);
+  EXPECT_LE(meshed.largestFeatureOffset, oracle.SurfaceTolerance());
+  if (parameters.radiusEdgeBound >= 2.0 && !UsesSliverRule(parameters))
+  {
+    // Lemma 5: with ρ >= 2 every restricted facet, hence every boundary triangle, has only feature vertices.
+    std::size_t nonFeatureCorners = 0;
+    for (const auto & triangle : meshed.mesh.boundaryTriangles)
+    {
+      for (const uint32_t vertex : triangle)
+      {
+        nonFeatureCorners += meshed.mesh.pointKinds[vertex] != VertexKind::Feature;
+      }
+    }
+    EXPECT_EQ(nonFeatureCorners, 0u);
+  }
+}
+
+void
+ExpectAllGuarantees(Shape shape, const RefinementParameters & parameters)
+{
+  SCOPED_TRACE(Describe(shape, parameters));
+  const MeshedShape & meshed = Meshed(shape, parameters);
+  ExpectWellFormed(meshed);
+  ExpectQuality(meshed, parameters);
+  ExpectShortestEdges(meshed, parameters);
+  ExpectFaithfulBoundary(meshed, OracleOf(shape), parameters);
+  EXPECT_EQ(meshed.statistics.unresolvedBoxEncroachments, 0u);
+}
+
+struct CoreCase
+{
+  Shape  shape;
+  double delta;
+  double rho;
+};
+
+/** Lets GoogleTest name a case by its values instead of its bytes. */
+void
+PrintTo(const CoreCase & coreCase, std::ostream * stream)
+{
+  *stream << ShapeName(coreCase.shape) << " delta=" << coreCase.delta << " rho=" << coreCase.rho;
+}
+
+std::vector<CoreCase>
+AllCoreCases()
+{
+  // Per shape, from coarse to fine against the minimum local feature size lfs (10, 4, 3.5, 2, 2.5): two δ
+  // between lfs/10 and lfs/2, where the paper saw good fidelity in practice (the topology still holds at
+  // δ = lfs for all five shapes), and one δ < 0.09 lfs, where Theorem 3 proves it.
+  const std::vector<std::pair<Shape, std::vector<double>>> deltasOfShape{ { Shape::Sphere, { 2.0, 1.0, 0.5 } },
+                                                                          { Shape::Torus, { 1.5, 1.0, 0.35 } },
+                                                                          { Shape::TwoSpheres, { 1.5, 1.0, 0.3 } },
+                                                                          { Shape::Genus2, { 1.0, 0.75, 0.175 } },
+                                                                          { Shape::NestedSpheres,
+                                                                            { 1.5, 1.0, 0.22 } } };
+  std::vector<CoreCase>                                    cases;
+  for (const auto & entry : deltasOfShape)
+  {
+    for (const double delta : entry.second)
+    {
+      for (const double rho : { 1.0, 1.5, 2.0 })
+      {
+        cases.push_back({ entry.first, delta, rho });
+      }
+    }
+  }
+  return cases;
+}
+
+std::string
+NameOf(const testing::TestParamInfo<CoreCase> & info)
+{
+  const auto encode = [](double value) {
+    std::ostringstream text;
+    text << value;
+    std::string name = text.str();
+    std::replace(name.begin(), name.end(), '.', 'p');
+    return name;
+  };
+  return std::string(ShapeName(info.param.shape)) + "_delta" + encode(info.param.delta) + "_rho" +
+         encode(info.param.rho);
+}
+
+class CoreGuarantees : public testing::TestWithParam<CoreCase>
+{};
+
+/** One line of numbers per case, so that a failure report can quote them. */
+void
+PrintSummary(Shape shape, const RefinementParameters & parameters)
+{
+  const MeshedShape & meshed = Meshed(shape, parameters);
+  const auto &        shortest = meshed.shortestEdges.shortestEdge;
+  std::cout << Describe(shape, parameters) << ": " << meshed.mesh.points.size() << " points, "
+            << meshed.mesh.tetrahedra.size() << " tets, " << meshed.seconds << " s, max R/E "
+            << meshed.quality.maximumRadiusEdgeRatio << ", min planar " << meshed.boundary.minimumPlanarAngle
+            << ", min dihedral " << meshed.quality.minimumDihedralAngle << ", components "
+            << meshed.boundary.numberOfComponents << ", genus " << meshed.boundary.totalGenus << ", non-manifold e/v "
+            << meshed.boundary.nonManifoldEdges << "/" << meshed.boundary.nonManifoldVertices << ", mesh->surf "
+            << meshed.meshToSurface.maximum << ", surf->mesh " << meshed.surfaceToMesh.maximum << ", shortest feature "
+            << shortest.at(VertexKind::Feature) << " free " << shortest.at(VertexKind::Free) << "\n";
+}
+
+TEST_P(CoreGuarantees, HoldOnTheProducedMesh)
+{
+  const RefinementParameters parameters = ParametersOf(GetParam().delta, GetParam().rho);
+  ExpectAllGuarantees(GetParam().shape, parameters);
+  PrintSummary(GetParam().shape, parameters);
+}
+
+INSTANTIATE_TEST_SUITE_P(AnalyticShapes, CoreGuarantees, testing::ValuesIn(AllCoreCases()), NameOf);
+
+TEST(CoreTestHelpers, BoundaryCheckSeesCorruptedBoundaries)
+{
+  // The boundary check is only worth its green if it can go red: corrupt a good mesh three ways.
+  const TetrahedralMesh & good = Meshed(Shape::Sphere, ParametersOf(2.0, 2.0)).mesh;
+  ASSERT_GE(good.boundaryTriangles.size(), 2u);
+  {
+    TetrahedralMesh flipped = good;
+    std::swap(flipped.boundaryTriangles[0][1], flipped.boundaryTriangles[0][2]);
+    EXPECT_EQ(CheckBoundaryAgainstTetrahedra(flipped).wrongOrientation, 1u);
+  }
+  {
+    TetrahedralMesh dropped = good;
+    dropped.boundaryTriangles.pop_back();
+    dropped.boundaryTriangleLabels.pop_back();
+    EXPECT_EQ(CheckBoundaryAgainstTetrahedra(dropped).missingTriangles, 1u);
+  }
+  {
+    TetrahedralMesh relabelled = good;
+    relabelled.boundaryTriangleLabels[0] = { { 2, BackgroundLabel } };
+    EXPECT_EQ(CheckBoundaryAgainstTetrahedra(relabelled).wrongLabels, 1u);
+  }
+  {
+    // A copied tetrahedron puts its interior facets in three tetrahedra (its boundary facets in two).
+    TetrahedralMesh doubled = good;
+    doubled.tetrahedra.push_back(good.tetrahedra[0]);
+    doubled.tetrahedronLabels.push_back(good.tetrahedronLabels[0]);
+    std::set<SortedTriangle> boundary;
+    for (const auto & triangle : good.boundaryTriangles)
+    {
+      boundary.insert(Sorted(triangle));
+    }
+    const auto & copied = good.tetrahedra[0];
+    std::size_t  interiorFacets = 0;
+    for (int apex = 0; apex < 4; ++apex)
+    {
+      interiorFacets +=
+        boundary.count(Sorted({ { copied[(apex + 1) % 4], copied[(apex + 2) % 4], copied[(apex + 3) % 4] } })) == 0;
+    }
+    EXPECT_EQ(CheckBoundaryAgainstTetrahedra(doubled).overSharedFacets, interiorFacets);
+  }
+}
+
+TEST(CoreReport, SphereAndTorusTable)
+{
+  const std::vector<std::pair<Shape, double>> rows{
+    { Shape::Sphere, 2.0 }, { Shape::Sphere, 1.0 }, { Shape::Torus, 1.5 }, { Shape::Torus, 1.0 }
+  };
+  std::ostringstream table;
+  table << "\n"
+        << std::left << std::setw(8) << "shape" << std::right << std::setw(6) << "delta" << std::setw(5) << "rho"
+        << std::setw(9) << "vertices" << std::setw(8) << "tets" << std::setw(8) << "bdryTri" << std::setw(9)
+        << "seconds" << std::setw(10) << "maxR/E" << std::setw(11) << "minPlanar" << std::setw(12) << "minDihedral"
+        << std::setw(11) << "Hausdorff" << std::setw(11) << "mesh->surf" << std::setw(11) << "surf->mesh"
+        << std::setw(11) << "meanM->S"
+        << "\n";
+  for (const auto & row : rows)
+  {
+    const RefinementParameters parameters = ParametersOf(row.second, 2.0);
+    ExpectAllGuarantees(row.first, parameters);
+    const MeshedShape & meshed = Meshed(row.first, parameters);
+    table << std::left << std::setw(8) << ShapeName(row.first) << std::right << std::setw(6) << row.second
+          << std::setw(5) << parameters.radiusEdgeBound << std::setw(9) << meshed.mesh.points.size() << std::setw(8)
+          << meshed.mesh.tetrahedra.size() << std::setw(8) << meshed.mesh.boundaryTriangles.size() << std::fixed
+          << std::setprecision(3) << std::setw(9) << meshed.seconds << std::setprecision(4) << std::setw(10)
+          << meshed.quality.maximumRadiusEdgeRatio << std::setprecision(2) << std::setw(11)
+          << meshed.boundary.minimumPlanarAngle << std::setw(12) << meshed.quality.minimumDihedralAngle
+          << std::setprecision(4) << std::setw(11) << meshed.HausdorffDistance() << std::setw(11)
+          << meshed.meshToSurface.maximum << std::setw(11) << meshed.surfaceToMesh.maximum << std::setw(11)
+          << meshed.meshToSurface.mean << std::defaultfloat << "\n";
+  }
+  std::cout << table.str() << std::flush;
+}
+
+TEST(CoreReport, RuleStatistics)
+{
+  // Not a guarantee: what each rule did, to read next to the table.
+  for (const auto & row : std::vector<std::pair<Shape, double>>{ { Shape::Sphere, 1.0 }, { Shape::Torus, 1.0 } })
+  {
+    const RefinementStatistics & s = Meshed(row.first, ParametersOf(row.second, 2.0)).statistics;
+    std::cout << ShapeName(row.first) << " delta=" << row.second << ": R1 " << s.insertionsR1 << ", R2 "
+              << s.insertionsR2 << ", R3 " << s.insertionsR3 << ", R4 " << s.insertionsR4 << ", E1 " << s.insertionsE1
+              << ", E2 " << s.insertionsE2 << ", E3 " << s.insertionsE3 << ", deleted " << s.deletedVertices
+              << ", stale " << s.staleQueueEntries << ", triangulation vertices " << s.triangulationVertices
+              << ", refinement " << s.refinementSeconds << " s, extraction " << s.extractionSeconds << " s\n";
+  }
+}
+
+TEST(CoreTermination, ReturnsForRhoOne)
+{
+  // ρ = 1 is the smallest bound for which the paper proves termination (Theorem 2).
+  const MeshedShape & meshed = Meshed(Shape::Torus, ParametersOf(1.5, 1.0));
+  EXPECT_FALSE(meshed.mesh.tetrahedra.empty());
+}
+
+bool
+SamePointSets(const TetrahedralMesh & a, const TetrahedralMesh & b)
+{
+  return std::set<Vector3>(a.points.begin(), a.points.end()) == std::set<Vector3>(b.points.begin(), b.points.end());
+}
+
+void
+ExpectIdenticalMeshes(const TetrahedralMesh & a, const TetrahedralMesh & b)
+{
+  // Exact equality: the same oracle and parameters must give the same bits, in the same order. The point-set
+  // comparison only tells a failure in the order of the output from one in its geometry.
+  const std::string pointSets = SamePointSets(a, b) ? "same point sets" : "different point sets";
+  EXPECT_TRUE(a.points == b.points) << pointSets << " (" << a.points.size() << " and " << b.points.size() << " points)";
+  EXPECT_TRUE(a.pointKinds == b.pointKinds);
+  EXPECT_TRUE(a.tetrahedra == b.tetrahedra) << pointSets;
+  EXPECT_TRUE(a.tetrahedronLabels == b.tetrahedronLabels);
+  EXPECT_TRUE(a.boundaryTriangles == b.boundaryTriangles);
+  EXPECT_TRUE(a.boundaryTriangleLabels == b.boundaryTriangleLabels);
+}
+
+TEST(CoreDeterminism, TwoRunsGiveIdenticalMeshes)
+{
+  for (const Shape shape : { Shape::Torus, Shape::NestedSpheres })
+  {
+    SCOPED_TRACE(ShapeName(shape));
+    const RefinementParameters parameters = ParametersOf(1.5, 2.0);
+    ExpectIdenticalMeshes(Meshed(shape, parameters).mesh, RefineMesh(OracleOf(shape), parameters));
+  }
+}
+
+TEST(CoreLabels, NestedSpheresHaveTwoTissuesWithClosedBoundaries)
+{
+  const MeshedShape &     meshed = Meshed(Shape::NestedSpheres, ParametersOf(1.0, 2.0));
+  const TetrahedralMesh & mesh = meshed.mesh;
+  const std::set<Label>   labels(mesh.tetrahedronLabels.begin(), mesh.tetrahedronLabels.end());
+  EXPECT_EQ(labels, (std::set<Label>{ 1, 2 }));
+
+  // The shell (1) meets the background on the outer sphere and the core (2) on the inner sphere; the core
+  // never meets the background.
+  std::map<std::array<Label, 2>, std::size_t> trianglesPerLabelPair;
+  for (const auto & pair : mesh.boundaryTriangleLabels)
+  {
+    ++trianglesPerLabelPair[pair];
+  }
+  const std::array<Label, 2> shellToBackground{ { 1, BackgroundLabel } };
+  const std::array<Label, 2> shellToCore{ { 1, 2 } };
+  EXPECT_GT(trianglesPerLabelPair[shellToBackground], 0u);
+  EXPECT_GT(trianglesPerLabelPair[shellToCore], 0u);
+  EXPECT_EQ(trianglesPerLabelPair.size(), 2u) << "boundary triangles with labels other than {1,0} and {1,2}";
+
+  const SurfaceTopology shell = ComputeLabelBoundaryTopology(mesh, 1);
+  EXPECT_TRUE(shell.IsClosedManifold());
+  EXPECT_EQ(shell.numberOfComponents, 2);
+  EXPECT_EQ(shell.totalGenus, 0);
+  const SurfaceTopology core = ComputeLabelBoundaryTopology(mesh, 2);
+  EXPECT_TRUE(core.IsClosedManifold());
+  EXPECT_EQ(core.numberOfComponents, 1);
+  EXPECT_EQ(core.totalGenus, 0);
+  EXPECT_EQ(core.numberOfTriangles, trianglesPerLabelPair[shellToCore]);
+}
+
+void
+ExpectInvalidArgumentNaming(const std::function<void()> & call, const std::string & parameterName)
+{
+  try
+  {
+    call();
+    ADD_FAILURE() << "no exception; expected std::invalid_argument naming " << parameterName;
+  }
+  catch (const std::invalid_argument & error)
+  {
+    EXPECT_NE(std::string(error.what()).find(parameterName), std::string::npos) << error.what();
+  }
+  catch (const std::exception & error)
+  {
+    ADD_FAILURE() << "expected std::invalid_argument, got: " << error.what();
+  }
+}
+
+TEST(CoreParameters, InvalidValuesAreRejectedByName)
+{
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double infinity = std::numeric_limits<double>::infinity();
+  struct BadParameter
+  {
+    std::string          name;
+    RefinementParameters parameters;
+  };
+  const std::vector<BadParameter> bad{
+    { "surfaceSamplingDistance", ParametersOf(0.0, 2.0) },
+    { "surfaceSamplingDistance", ParametersOf(-1.0, 2.0) },
+    { "surfaceSamplingDistance", ParametersOf(nan, 2.0) },
+    { "surfaceSamplingDistance", ParametersOf(infinity, 2.0) },
+    { "radiusEdgeBound", ParametersOf(1.0, 0.999) },
+    { "radiusEdgeBound", ParametersOf(1.0, nan) },
+    { "radiusEdgeBound", ParametersOf(1.0, infinity) },
+    { "minimumDihedralAngle", ParametersOf(1.0, 2.0, -1.0) },
+    { "minimumDihedralAngle", ParametersOf(1.0, 2.0, 30.5) },
+    { "minimumDihedralAngle", ParametersOf(1.0, 2.0, nan) },
+  };
+  const SphereOracle sphere({ { 0.0, 0.0, 0.0 } }, 10.0);
+  for (const BadParameter & entry : bad)
+  {
+    SCOPED_TRACE(entry.name);
+    ExpectInvalidArgumentNaming([&] { ValidateParameters(entry.parameters); }, entry.name);
+    ExpectInvalidArgumentNaming([&] { RefineMesh(sphere, entry.parameters); }, entry.name);
+  }
+  // The ends of the valid ranges are valid.
+  EXPECT_NO_THROW(ValidateParameters(ParametersOf(1e-6, 1.0, 0.0)));
+  EXPECT_NO_THROW(ValidateParameters(ParametersOf(1.0, 1.0, 30.0)));
+}
+
+TEST(CoreLimits, VertexLimitIsEnforced)
+{
+  RefinementParameters parameters = ParametersOf(1.0, 2.0);
+  parameters.maximumNumberOfVertices = 20;
+  EXPECT_THROW(RefineMesh(OracleOf(Shape::Sphere), parameters), VertexLimitExceeded);
+}
+
+TEST(CoreLimits, ObserverCanAbort)
+{
+  std::size_t      calls = 0;
+  ProgressObserver stopAtOnce = [&calls](const RefinementProgress &) {
+    ++calls;
+    return false;
+  };
+  EXPECT_THROW(RefineMesh(OracleOf(Shape::Sphere), ParametersOf(1.0, 2.0), nullptr, stopAtOnce), RefinementAborted);
+  EXPECT_EQ(calls, 1u);
+}
+
+TEST(CoreLimits, ObserverThatContinuesChangesNothing)
+{
+  const RefinementParameters parameters = ParametersOf(1.0, 2.0);
+  std::size_t                calls = 0;
+  double                     lastFraction = 0.0;
+  bool                       fractionsValid = true;
+  ProgressObserver           watch = [&](const RefinementProgress & progress) {
+    ++calls;
+    fractionsValid = fractionsValid && progress.fraction >= lastFraction && progress.fraction < 1.0;
+    lastFraction = progress.fraction;
+    return true;
+  };
+  const TetrahedralMesh watched = RefineMesh(OracleOf(Shape::Sphere), parameters, nullptr, watch);
+  EXPECT_GT(calls, 0u);
+  EXPECT_TRUE(fractionsValid) << "progress fractions must be monotone and in [0, 1)";
+  ExpectIdenticalMeshes(watched, Meshed(Shape::Sphere, parameters).mesh);
+}
+
+/** No object at all: empty bounds, background everywhere. */
+class EmptyOracle : public LabelOracle
+{
+public:
+  Label
+  LabelAt(const Vector3 &) const override
+  {
+    return BackgroundLabel;
+  }
+  AxisAlignedBox
+  ObjectBounds() const override
+  {
+    AxisAlignedBox box;
+    box.lower = { { 1.0, 1.0, 1.0 } };
+    box.upper = { { -1.0, -1.0, -1.0 } };
+    return box;
+  }
+  SurfacePoint
+  ClosestSurfacePoint(const Vector3 & query) const override
+  {
+    return { query, std::numeric_limits<double>::infinity() };
+  }
+  double
+  SurfaceTolerance() const override
+  {
+    return 1e-9;
+  }
+};
+
+TEST(CoreLimits, EmptyObjectGivesEmptyMesh)
+{
+  const EmptyOracle     empty;
+  const TetrahedralMesh mesh = RefineMesh(empty, ParametersOf(1.0, 2.0));
+  EXPECT_TRUE(mesh.points.empty());
+  EXPECT_TRUE(mesh.pointKinds.empty());
+  EXPECT_TRUE(mesh.tetrahedra.empty());
+  EXPECT_TRUE(mesh.tetrahedronLabels.empty());
+  EXPECT_TRUE(mesh.boundaryTriangles.empty());
+  EXPECT_TRUE(mesh.boundaryTriangleLabels.empty());
+}
+
+TEST(CoreSliverRemoval, DihedralBoundOnSphere)
+{
+  // R4': σ = 10° on top of ρ = 2. Every other guarantee must still hold.
+  const RefinementParameters parameters = ParametersOf(2.0, 2.0, 10.0);
+  ExpectAllGuarantees(Shape::Sphere, parameters);
+  const MeshedShape & meshed = Meshed(Shape::Sphere, parameters);
+  EXPECT_GE(meshed.quality.minimumDihedralAngle, parameters.minimumDihedralAngle);
+  std::cout << "Sphere delta=2 rho=2 sigma=10: " << meshed.mesh.tetrahedra.size() << " tetrahedra, min dihedral "
+            << meshed.quality.minimumDihedralAngle << " deg, max radius-edge " << meshed.quality.maximumRadiusEdgeRatio
+            << ", R4' insertions " << meshed.statistics.insertionsR4Dihedral << " (without sigma: min dihedral "
+            << Meshed(Shape::Sphere, ParametersOf(2.0, 2.0)).quality.minimumDihedralAngle << " deg)\n";
+}
+
+} // namespace
+} // namespace delaunay_refinement
