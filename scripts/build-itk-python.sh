@@ -47,6 +47,8 @@ fetch_itk_source() {
   ln -sfn "$repository" "$cache/source/Modules/Remote/DelaunayImageToMesh"
 }
 
+# ITK 5.2's own wrapping (itkImageDuplicator.wrap) fails to configure when no vector pixel type is wrapped,
+# so the default vector types stay on.
 configure_and_build() {
   cmake -S "$cache/source" -B "$build" \
     -DCMAKE_BUILD_TYPE=Release \
@@ -59,8 +61,7 @@ configure_and_build() {
     -DITK_WRAP_PYTHON=ON -DITK_WRAP_IMAGE_DIMS=3 \
     -DITK_WRAP_unsigned_char=ON -DITK_WRAP_signed_short=ON -DITK_WRAP_float=ON \
     -DITK_WRAP_unsigned_short=OFF -DITK_WRAP_double=OFF \
-    -DITK_WRAP_covariant_vector_float=OFF -DITK_WRAP_vector_float=OFF -DITK_WRAP_rgb_unsigned_char=OFF \
-    -DITK_WRAP_rgba_unsigned_char=OFF \
+    -DITK_WRAP_vector_float=ON -DITK_WRAP_covariant_vector_float=ON \
     -DITK_USE_SYSTEM_SWIG=ON -DITK_USE_SYSTEM_CASTXML=ON \
     -DPython3_EXECUTABLE="$python" >"$cache/configure.log"
   cmake --build "$build" -j"$(nproc)" >"$cache/build.log" 2>&1 || { tail -40 "$cache/build.log"; exit 1; }
