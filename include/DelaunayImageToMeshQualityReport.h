@@ -61,7 +61,8 @@ struct LabelQuality
   /** The label's voxels in the segmentation × the voxel volume, mm³. */
   double segmentedVolume{ 0.0 };
   /** The label's boundary: the boundary triangles with this label on one of their sides; their number,
-   * manifoldness, components, genus and smallest planar angle. */
+   * manifoldness, components, genus and smallest planar angle. The genus means nothing unless the boundary is
+   * a closed manifold: otherwise it is printed as "-" and written as null. */
   SurfaceTopology boundary;
 };
 
@@ -86,7 +87,7 @@ struct QualityReport
   double maximumDihedralAngle{ 0.0 };
   /** Largest circumradius / shortest edge of any tetrahedron (< ρ is guaranteed). */
   double maximumRadiusEdgeRatio{ 0.0 };
-  /** Tetrahedra with signed volume <= 0 (expected: 0). */
+  /** Tetrahedra with signed volume <= 0 or a repeated vertex (expected: 0). */
   std::size_t invertedTetrahedra{ 0 };
   /** Smallest planar angle of any boundary triangle, degrees (> 30° is guaranteed when σ = 0). */
   double minimumBoundaryPlanarAngle{ 0.0 };
@@ -114,10 +115,11 @@ struct QualityReport
 };
 
 /** Measures `mesh` and compares it with `segmentation`, the voxels of the labels that were meshed (every
- * other voxel 0). The distance samples are spaced half the smallest voxel spacing apart, fine enough to see
- * the marching-cubes surface's voxel-sized features. `report.run` is left for the caller to fill.
+ * other voxel 0). The distance samples are every vertex of both surfaces and points about the smallest voxel
+ * spacing apart on their triangles: the marching-cubes surface has no feature smaller than a voxel, and finer
+ * samples would make the report cost more than the meshing. `report.run` is left for the caller to fill.
  * \throws std::invalid_argument if the mesh arrays are inconsistent (a label missing, a point index out of
- * range). */
+ * range) or the segmentation's labels do not match its size. */
 QualityReport
 ComputeQualityReport(const TetrahedralMesh & mesh, const LabelVolume & segmentation);
 
@@ -125,7 +127,15 @@ ComputeQualityReport(const TetrahedralMesh & mesh, const LabelVolume & segmentat
 void
 PrintQualityReport(const QualityReport & report, std::ostream & out);
 
-/** Writes the report as a JSON object, for programs; non-finite numbers are written as null. */
+/** Writes the report as a JSON object, for programs; non-finite numbers are written as null. Keys: input,
+ * output, parameters {delta_mm, radius_edge_bound, min_dihedral_angle_deg}, vertices, tetrahedra,
+ * boundary_triangles, quality {min_dihedral_angle_deg, max_dihedral_angle_deg, max_radius_edge_ratio,
+ * min_boundary_planar_angle_deg, inverted_tetrahedra, manifold, non_manifold_edges, non_manifold_vertices},
+ * mesh_volume_mm3, segmented_volume_mm3, distance_to_marching_cubes {sample_spacing_mm, samples, mean_mm,
+ * percentile95_mm, max_mm}, labels [{label, vertices, tetrahedra, boundary_triangles, mesh_volume_mm3,
+ * segmented_volume_mm3, boundary_components, boundary_genus, boundary_component_genera, non_manifold_edges,
+ * non_manifold_vertices, min_planar_angle_deg}], min_dihedral_angle_histogram {bin_width_deg, counts},
+ * time_seconds {phase: seconds}, peak_memory_bytes. */
 void
 WriteQualityReportJson(const QualityReport & report, std::ostream & out);
 

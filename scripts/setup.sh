@@ -14,7 +14,7 @@ packages=(
   libgtest-dev              # GoogleTest
   libtbb-dev libeigen3-dev
   insighttoolkit5-examples  # real segmented brain images for the tests and the sample run
-  python3 python3-numpy python3-meshio  # meshio re-reads every written mesh file in the tests
+  python3 python3-numpy python3-meshio python3-vtk9 python3-matplotlib xvfb  # tests re-read meshes (meshio, VTK); pictures
 )
 
 missing=()

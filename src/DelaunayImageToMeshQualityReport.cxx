@@ -40,8 +40,15 @@ constexpr double HistogramRangeDegrees = 90.0;
 constexpr double HistogramBinWidthDegrees = 2.0;
 
 void
-CheckMeshArrays(const TetrahedralMesh & mesh)
+CheckInputs(const TetrahedralMesh & mesh, const LabelVolume & segmentation)
 {
+  const std::size_t voxels = segmentation.size[0] * segmentation.size[1] * segmentation.size[2];
+  if (segmentation.labels.size() != voxels)
+  {
+    throw std::invalid_argument("ComputeQualityReport: the segmentation has " +
+                                std::to_string(segmentation.labels.size()) + " labels for " + std::to_string(voxels) +
+                                " voxels.");
+  }
   for (const auto & tetrahedron : mesh.tetrahedra)
   {
     for (const uint32_t point : tetrahedron)
@@ -136,8 +143,7 @@ HistogramOf(const std::vector<double> & anglesInDegrees)
     // A degenerate tetrahedron has no defined angle; it is counted among the inverted ones instead.
     if (std::isfinite(angle))
     {
-      const auto bin = static_cast<std::size_t>(std::max(angle, 0.0) / histogram.binWidth);
-      ++histogram.counts[std::min(bin, histogram.counts.size() - 1)];
+      ++histogram.counts.at(static_cast<std::size_t>(angle / histogram.binWidth));
     }
   }
   return histogram;
@@ -176,7 +182,7 @@ void
 AddDistanceToMarchingCubes(const TetrahedralMesh & mesh, const LabelVolume & segmentation, QualityReport & report)
 {
   const TriangleSurface reference = ExtractLabelSurfaces(segmentation);
-  report.distanceSampleSpacing = 0.5 * *std::min_element(segmentation.spacing.begin(), segmentation.spacing.end());
+  report.distanceSampleSpacing = *std::min_element(segmentation.spacing.begin(), segmentation.spacing.end());
   report.distanceToMarchingCubes =
     ComputeTwoSidedDistance(
       mesh.points, mesh.boundaryTriangles, reference.points, reference.triangles, report.distanceSampleSpacing)
@@ -434,7 +440,7 @@ PrintSummary(const QualityReport & report, std::ostream & out)
   PrintRow(out, "boundary triangles", std::to_string(report.boundaryTriangles));
   PrintRow(out,
            "dihedral angle min / max",
-           Fixed(report.minimumDihedralAngle, 2) + " / " + Fixed(report.maximumDihedralAngle, 2) + " deg");
+           Fixed(report.minimumDihedralAngle, 3) + " / " + Fixed(report.maximumDihedralAngle, 3) + " deg");
   PrintRow(out, "max radius-edge ratio", Fixed(report.maximumRadiusEdgeRatio, 3));
   PrintRow(out, "min boundary planar angle", Fixed(report.minimumBoundaryPlanarAngle, 2) + " deg");
   PrintRow(out, "inverted tetrahedra", std::to_string(report.invertedTetrahedra));
@@ -444,7 +450,7 @@ PrintSummary(const QualityReport & report, std::ostream & out)
              " non-manifold edges, " + std::to_string(report.nonManifoldVertices) + " non-manifold vertices)");
   PrintRow(out,
            "volume mesh / segmented",
-           Fixed(report.meshVolume, 0) + " / " + Fixed(report.segmentedVolume, 0) + " mm^3 (" +
+           Fixed(report.meshVolume, 1) + " / " + Fixed(report.segmentedVolume, 1) + " mm^3 (" +
              SignedPercent(report.meshVolume, report.segmentedVolume) + ")");
   const DistanceStatistics & distance = report.distanceToMarchingCubes;
   PrintRow(out,
@@ -475,8 +481,8 @@ PrintLabelTable(const std::vector<LabelQuality> & labels, std::ostream & out)
                                           std::to_string(quality.vertices),
                                           std::to_string(quality.tetrahedra),
                                           std::to_string(boundary.numberOfTriangles),
-                                          Fixed(quality.meshVolume, 0),
-                                          Fixed(quality.segmentedVolume, 0),
+                                          Fixed(quality.meshVolume, 1),
+                                          Fixed(quality.segmentedVolume, 1),
                                           std::to_string(boundary.numberOfComponents),
                                           boundary.IsClosedManifold() ? std::to_string(boundary.totalGenus) : "-",
                                           std::to_string(boundary.nonManifoldEdges) + "/" +
@@ -496,7 +502,7 @@ PrintLabelTable(const std::vector<LabelQuality> & labels, std::ostream & out)
 QualityReport
 ComputeQualityReport(const TetrahedralMesh & mesh, const LabelVolume & segmentation)
 {
-  CheckMeshArrays(mesh);
+  CheckInputs(mesh, segmentation);
   QualityReport report;
   report.vertices = mesh.points.size();
   report.tetrahedra = mesh.tetrahedra.size();

@@ -1,1 +1,72 @@
-# Filled in by the command-line work.
+# Tests of the command-line program delaunay-image-to-mesh and of the quality report it prints. The program is
+# built in examples/ (after this file is read, hence the generator expressions) whenever DelaunayImageToMeshIO is.
+if(NOT TARGET DelaunayImageToMeshIO)
+  return()
+endif()
+
+# The quality report on hand-made meshes whose answers are known.
+add_executable(DelaunayImageToMeshCommandLineReportGTests DelaunayImageToMeshCommandLineQualityReportGTest.cxx)
+target_link_libraries(DelaunayImageToMeshCommandLineReportGTests
+  PRIVATE DelaunayImageToMeshIO GTest::gtest GTest::gtest_main)
+gtest_discover_tests(DelaunayImageToMeshCommandLineReportGTests DISCOVERY_TIMEOUT 120 PROPERTIES TIMEOUT 600)
+
+# The program is built by examples/, which only the plain-CMake build adds (the remote-module path does not).
+if(COMMAND itk_module_add_library)
+  return()
+endif()
+
+# Debian's python3 with python3-vtk9, python3-meshio and python3-numpy re-reads the meshes the program writes.
+# (A python3 earlier on PATH, such as a pyenv one, usually lacks Debian's packages.) The test scripts import
+# their shared module from the source tree, which must not collect __pycache__ directories.
+set(DelaunayImageToMesh_TEST_PYTHON /usr/bin/python3 CACHE FILEPATH
+  "Python interpreter with the vtk, meshio and numpy modules, for the command-line tests")
+
+set(command_line_images ${CMAKE_CURRENT_BINARY_DIR}/CommandLineImages)
+set(command_line_output ${CMAKE_CURRENT_BINARY_DIR}/CommandLineOutput)
+set(command_line_program $<TARGET_FILE:delaunay-image-to-mesh>)
+
+add_executable(DelaunayImageToMeshCommandLineGenerateImages DelaunayImageToMeshCommandLineGenerateImages.cxx)
+target_link_libraries(DelaunayImageToMeshCommandLineGenerateImages PRIVATE ${ITK_LIBRARIES})
+add_test(NAME DelaunayImageToMeshCommandLine.GenerateImages
+  COMMAND DelaunayImageToMeshCommandLineGenerateImages ${command_line_images})
+set_tests_properties(DelaunayImageToMeshCommandLine.GenerateImages PROPERTIES FIXTURES_SETUP CommandLineImages)
+
+# Every output format, re-read with meshio (and VTK for .vtu/.vtk) and checked against the --report JSON.
+foreach(extension vtu vtk msh mesh)
+  add_test(NAME DelaunayImageToMeshCommandLine.OutputFormat.${extension}
+    COMMAND ${DelaunayImageToMesh_TEST_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/DelaunayImageToMeshCommandLineOutputFormat.py
+      ${command_line_program} ${command_line_images}/labels.nii.gz ${command_line_output}/format-${extension} ${extension})
+endforeach()
+
+# Every input format gives the same mesh; DICOM series and --iso work; progress and --quiet behave.
+add_test(NAME DelaunayImageToMeshCommandLine.Inputs
+  COMMAND ${DelaunayImageToMesh_TEST_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/DelaunayImageToMeshCommandLineInputs.py
+    ${command_line_program} ${command_line_images} ${command_line_output}/inputs)
+
+# Bad arguments, unreadable files and meshing failures: exit code 2 and a one-line message; --help, --version.
+add_test(NAME DelaunayImageToMeshCommandLine.Errors
+  COMMAND ${DelaunayImageToMesh_TEST_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/DelaunayImageToMeshCommandLineErrors.py
+    ${command_line_program} ${command_line_images} ${command_line_output}/errors)
+
+set_tests_properties(
+  DelaunayImageToMeshCommandLine.OutputFormat.vtu
+  DelaunayImageToMeshCommandLine.OutputFormat.vtk
+  DelaunayImageToMeshCommandLine.OutputFormat.msh
+  DelaunayImageToMeshCommandLine.OutputFormat.mesh
+  DelaunayImageToMeshCommandLine.Inputs
+  DelaunayImageToMeshCommandLine.Errors
+  PROPERTIES FIXTURES_REQUIRED CommandLineImages TIMEOUT 600 ENVIRONMENT PYTHONDONTWRITEBYTECODE=1)
+
+# The picture scripts of examples/ still draw what they claim.
+add_test(NAME DelaunayImageToMeshCommandLine.Pictures
+  COMMAND ${DelaunayImageToMesh_TEST_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/DelaunayImageToMeshCommandLinePictures.py
+    ${command_line_program} ${command_line_images}/labels.nii.gz ${PROJECT_SOURCE_DIR}/examples
+    ${command_line_output}/pictures)
+set_tests_properties(DelaunayImageToMeshCommandLine.Pictures
+  PROPERTIES FIXTURES_REQUIRED CommandLineImages TIMEOUT 600 ENVIRONMENT PYTHONDONTWRITEBYTECODE=1)
+
+# `cmake --install` installs the program, which then runs.
+add_test(NAME DelaunayImageToMeshCommandLine.Install
+  COMMAND sh ${CMAKE_CURRENT_SOURCE_DIR}/DelaunayImageToMeshCommandLineInstall.sh ${CMAKE_BINARY_DIR}
+    ${CMAKE_CURRENT_BINARY_DIR}/CommandLineInstall)
+set_tests_properties(DelaunayImageToMeshCommandLine.Install PROPERTIES TIMEOUT 600)

@@ -1,0 +1,225 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+
+// Writes the small images the command-line tests mesh, into the directory given as the only argument:
+// - labels.nii.gz, labels.nrrd, labels.mha: two overlapping balls, label 1 (radius 7 mm, centred 3 mm to the
+//   left of the image centre) and label 2 (radius 5 mm, 5 mm to the right, winning where they overlap), on an
+//   anisotropic, rotated, shifted grid, so that the files only agree if spacing, origin and direction are read;
+// - labels-dicom/: the same balls as a DICOM series (one file per slice), on an unrotated grid;
+// - gray.mha: 100 minus the distance to the image centre (mm), so that --iso 92 is a ball of radius 8 mm.
+
+#include "itkGDCMImageIO.h"
+#include "itkImage.h"
+#include "itkImageFileWriter.h"
+#include "itkImageRegionIteratorWithIndex.h"
+#include "itkImageSeriesWriter.h"
+#include "itkMetaDataObject.h"
+
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace
+{
+
+using LabelImageType = itk::Image<short, 3>;
+using GrayImageType = itk::Image<float, 3>;
+using SliceType = itk::Image<short, 2>;
+
+template <typename TImage>
+typename TImage::Pointer
+MakeGrid(bool rotated)
+{
+  auto                        image = TImage::New();
+  typename TImage::SizeType   size{ { 30, 26, 20 } };
+  typename TImage::RegionType region(size);
+  image->SetRegions(region);
+  const double spacing[3] = { 1.0, 1.25, 1.5 };
+  const double origin[3] = { -12.0, 4.0, 2.5 };
+  image->SetSpacing(spacing);
+  image->SetOrigin(origin);
+  if (rotated)
+  {
+    // A quarter turn about z: voxel axis i runs along physical y, j along -x.
+    typename TImage::DirectionType direction;
+    direction.Fill(0.0);
+    direction(0, 1) = -1.0;
+    direction(1, 0) = 1.0;
+    direction(2, 2) = 1.0;
+    image->SetDirection(direction);
+  }
+  image->Allocate();
+  return image;
+}
+
+template <typename TImage>
+itk::Point<double, 3>
+CentreOf(const TImage * image)
+{
+  itk::ContinuousIndex<double, 3> centreIndex;
+  for (unsigned int axis = 0; axis < 3; ++axis)
+  {
+    centreIndex[axis] = 0.5 * (image->GetLargestPossibleRegion().GetSize(axis) - 1.0);
+  }
+  itk::Point<double, 3> centre;
+  image->TransformContinuousIndexToPhysicalPoint(centreIndex, centre);
+  return centre;
+}
+
+LabelImageType::Pointer
+MakeLabelImage(bool rotated)
+{
+  auto                        image = MakeGrid<LabelImageType>(rotated);
+  const itk::Point<double, 3> centre = CentreOf(image.GetPointer());
+  itk::Point<double, 3>       leftCentre = centre;
+  itk::Point<double, 3>       rightCentre = centre;
+  leftCentre[0] -= 3.0;
+  rightCentre[0] += 5.0;
+  for (itk::ImageRegionIteratorWithIndex<LabelImageType> it(image, image->GetLargestPossibleRegion()); !it.IsAtEnd();
+       ++it)
+  {
+    itk::Point<double, 3> point;
+    image->TransformIndexToPhysicalPoint(it.GetIndex(), point);
+    it.Set(point.EuclideanDistanceTo(rightCentre) <= 5.0 ? 2 : point.EuclideanDistanceTo(leftCentre) <= 7.0 ? 1 : 0);
+  }
+  return image;
+}
+
+GrayImageType::Pointer
+MakeGrayImage()
+{
+  auto                        image = MakeGrid<GrayImageType>(true);
+  const itk::Point<double, 3> centre = CentreOf(image.GetPointer());
+  for (itk::ImageRegionIteratorWithIndex<GrayImageType> it(image, image->GetLargestPossibleRegion()); !it.IsAtEnd();
+       ++it)
+  {
+    itk::Point<double, 3> point;
+    image->TransformIndexToPhysicalPoint(it.GetIndex(), point);
+    it.Set(static_cast<float>(100.0 - point.EuclideanDistanceTo(centre)));
+  }
+  return image;
+}
+
+template <typename TImage>
+void
+WriteImage(const TImage * image, const std::string & path)
+{
+  auto writer = itk::ImageFileWriter<TImage>::New();
+  writer->SetInput(image);
+  writer->SetFileName(path);
+  writer->UseCompressionOn();
+  writer->Update();
+}
+
+std::string
+DicomNumbers(const std::vector<double> & values)
+{
+  std::ostringstream text;
+  for (std::size_t i = 0; i < values.size(); ++i)
+  {
+    text << (i == 0 ? "" : "\\") << values[i];
+  }
+  return text.str();
+}
+
+/** The tags a reader needs to stack the slices: fixed study and series UIDs (GDCM would otherwise give every
+ * file a series of its own), each slice's position, the orientation and the spacing; and the photometric
+ * interpretation, without which GDCM warns. */
+itk::MetaDataDictionary
+SliceDictionary(const LabelImageType * image, unsigned int slice)
+{
+  const std::string       uidRoot = "1.2.826.0.1.3680043.10.543.";
+  const auto &            spacing = image->GetSpacing();
+  itk::Point<double, 3>   position;
+  itk::MetaDataDictionary dictionary;
+  image->TransformIndexToPhysicalPoint({ { 0, 0, static_cast<itk::IndexValueType>(slice) } }, position);
+  itk::EncapsulateMetaData<std::string>(dictionary, "0008|0060", "MR");
+  itk::EncapsulateMetaData<std::string>(dictionary, "0028|0004", "MONOCHROME2");
+  itk::EncapsulateMetaData<std::string>(dictionary, "0008|0016", "1.2.840.10008.5.1.4.1.1.4");
+  itk::EncapsulateMetaData<std::string>(dictionary, "0020|000d", uidRoot + "1");
+  itk::EncapsulateMetaData<std::string>(dictionary, "0020|000e", uidRoot + "2");
+  itk::EncapsulateMetaData<std::string>(dictionary, "0008|0018", uidRoot + "3." + std::to_string(slice + 1));
+  itk::EncapsulateMetaData<std::string>(dictionary, "0020|0013", std::to_string(slice + 1));
+  itk::EncapsulateMetaData<std::string>(
+    dictionary, "0020|0032", DicomNumbers({ position[0], position[1], position[2] }));
+  itk::EncapsulateMetaData<std::string>(dictionary, "0020|0037", DicomNumbers({ 1, 0, 0, 0, 1, 0 }));
+  itk::EncapsulateMetaData<std::string>(dictionary, "0028|0030", DicomNumbers({ spacing[1], spacing[0] }));
+  itk::EncapsulateMetaData<std::string>(dictionary, "0018|0050", DicomNumbers({ spacing[2] }));
+  itk::EncapsulateMetaData<std::string>(dictionary, "0018|0088", DicomNumbers({ spacing[2] }));
+  return dictionary;
+}
+
+void
+WriteDicomSeries(const LabelImageType * image, const std::filesystem::path & directory)
+{
+  std::filesystem::create_directories(directory);
+  const unsigned int                   slices = image->GetLargestPossibleRegion().GetSize(2);
+  std::vector<itk::MetaDataDictionary> dictionaries;
+  std::vector<std::string>             fileNames;
+  for (unsigned int slice = 0; slice < slices; ++slice)
+  {
+    dictionaries.push_back(SliceDictionary(image, slice));
+    fileNames.push_back((directory / ("slice" + std::to_string(100 + slice) + ".dcm")).string());
+  }
+  std::vector<itk::MetaDataDictionary *> dictionaryPointers;
+  for (itk::MetaDataDictionary & dictionary : dictionaries)
+  {
+    dictionaryPointers.push_back(&dictionary);
+  }
+  auto io = itk::GDCMImageIO::New();
+  io->KeepOriginalUIDOn();
+  auto writer = itk::ImageSeriesWriter<LabelImageType, SliceType>::New();
+  writer->SetInput(image);
+  writer->SetImageIO(io);
+  writer->SetFileNames(fileNames);
+  writer->SetMetaDataDictionaryArray(&dictionaryPointers);
+  writer->Update();
+}
+
+} // namespace
+
+int
+main(int argc, char * argv[])
+{
+  if (argc != 2)
+  {
+    std::cerr << "Usage: " << argv[0] << " OUTPUT_DIRECTORY" << std::endl;
+    return EXIT_FAILURE;
+  }
+  try
+  {
+    const std::filesystem::path directory(argv[1]);
+    std::filesystem::create_directories(directory);
+    const LabelImageType::Pointer labels = MakeLabelImage(true);
+    for (const char * name : { "labels.nii.gz", "labels.nrrd", "labels.mha" })
+    {
+      WriteImage(labels.GetPointer(), (directory / name).string());
+    }
+    WriteDicomSeries(MakeLabelImage(false), directory / "labels-dicom");
+    WriteImage(MakeGrayImage().GetPointer(), (directory / "gray.mha").string());
+  }
+  catch (const std::exception & error)
+  {
+    std::cerr << "Cannot write the test images: " << error.what() << std::endl;
+    return EXIT_FAILURE;
+  }
+  return EXIT_SUCCESS;
+}

@@ -1,0 +1,115 @@
+# ==========================================================================
+#
+#   Copyright NumFOCUS
+#
+#   Licensed under the Apache License, Version 2.0 (the "License");
+#   you may not use this file except in compliance with the License.
+#   You may obtain a copy of the License at
+#
+#          http://www.apache.org/licenses/LICENSE-2.0.txt
+#
+#   Unless required by applicable law or agreed to in writing, software
+#   distributed under the License is distributed on an "AS IS" BASIS,
+#   WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+#   See the License for the specific language governing permissions and
+#   limitations under the License.
+#
+# ==========================================================================
+"""Checks what the program reads and how the options reach the filter, on the generated images:
+NIfTI, NRRD and MetaImage copies of one image give the same mesh, with the analytic volumes; a DICOM series
+gives the same objects; --iso meshes a gray image; --labels, --delta, --radius-edge and --min-dihedral are
+honoured; progress goes to stderr as plain lines when stderr is not a terminal.
+
+Usage: DelaunayImageToMeshCommandLineInputs.py PROGRAM IMAGE_DIRECTORY OUTPUT_DIRECTORY"""
+
+import os
+import re
+import sys
+
+from DelaunayImageToMeshCommandLineTesting import (BALL_VOLUMES, ISO_BALL_VOLUME, check, describe, mesh_and_report,
+                                                   relative_difference, run, tetrahedra_per_label)
+
+# δ = 2 mm against voxels of 1 to 1.5 mm: the mesh volume is within a few percent of the balls'.
+VOLUME_TOLERANCE = 0.06
+
+
+def labels_of(report):
+    return {entry["label"]: entry for entry in report["labels"]}
+
+
+def check_ball_volumes(report, name):
+    for label, volume in BALL_VOLUMES.items():
+        entry = labels_of(report)[label]
+        for measured in ("mesh_volume_mm3", "segmented_volume_mm3"):
+            check(relative_difference(entry[measured], volume) < VOLUME_TOLERANCE,
+                  f"{name}: label {label} {measured} = {entry[measured]:.1f}, the ball's is {volume:.1f}")
+
+
+def check_file_formats_agree(program, images, output):
+    reports = {}
+    for name in ("labels.nii.gz", "labels.nrrd", "labels.mha"):
+        _, reports[name] = mesh_and_report(program, os.path.join(images, name), output, name, options=["--delta", "2"])
+        check_ball_volumes(reports[name], name)
+    summaries = {name: (report["vertices"], report["tetrahedra"], report["boundary_triangles"],
+                        tetrahedra_per_label(report)) for name, report in reports.items()}
+    check(len(set(map(str, summaries.values()))) == 1, f"the formats give different meshes: {summaries}")
+    return reports["labels.nii.gz"]
+
+
+def check_dicom_series(program, images, output):
+    series = os.path.join(images, "labels-dicom")
+    _, report = mesh_and_report(program, series, output, "dicom", options=["--delta", "2"])
+    check(sorted(tetrahedra_per_label(report)) == [1, 2], f"DICOM: labels {report['labels']}")
+    check_ball_volumes(report, "DICOM series")
+
+
+def check_iso_value(program, images, output):
+    _, report = mesh_and_report(program, os.path.join(images, "gray.mha"), output, "iso", options=["--iso", "92",
+                                                                                                   "--delta", "2"])
+    check(list(tetrahedra_per_label(report)) == [1], f"--iso: labels {report['labels']}, expected only 1")
+    check(relative_difference(report["mesh_volume_mm3"], ISO_BALL_VOLUME) < VOLUME_TOLERANCE,
+          f"--iso 92: mesh volume {report['mesh_volume_mm3']:.1f}, the ball's is {ISO_BALL_VOLUME:.1f}")
+
+
+def check_options(program, image, output, default_report):
+    _, selected = mesh_and_report(program, image, output, "label2", options=["--delta", "2", "--labels", "2"])
+    check(list(tetrahedra_per_label(selected)) == [2] and list(labels_of(selected)) == [2],
+          f"--labels 2: report labels {selected['labels']}")
+    _, every = mesh_and_report(program, image, output, "all", options=["--delta", "2", "--labels", "all"])
+    check(every["tetrahedra"] == default_report["tetrahedra"], "--labels all differs from the default")
+
+    _, automatic = mesh_and_report(program, image, output, "automatic")
+    check(automatic["parameters"]["delta_mm"] == 4 * 1.5, f"default delta: {automatic['parameters']}, expected 6 mm")
+
+    _, variant = mesh_and_report(program, image, output, "variant",
+                                 options=["--delta", "2", "--radius-edge", "3", "--min-dihedral", "8"])
+    parameters, quality = variant["parameters"], variant["quality"]
+    check(parameters["radius_edge_bound"] == 3 and parameters["min_dihedral_angle_deg"] == 8,
+          f"parameters not recorded: {parameters}")
+    check(quality["max_radius_edge_ratio"] < 3, f"--radius-edge 3: {quality['max_radius_edge_ratio']}")
+    check(quality["min_dihedral_angle_deg"] >= 8 - 1e-9, f"--min-dihedral 8: {quality['min_dihedral_angle_deg']}")
+
+
+def check_progress_and_table(program, image, output):
+    result = run(program, [image, os.path.join(output, "progress.vtu"), "--delta", "2"])
+    check(result.returncode == 0, describe(result))
+    lines = result.stderr.splitlines()
+    check(lines and all(re.fullmatch(r"progress: \d{1,3}%", line) for line in lines),
+          f"stderr should be plain progress lines: {describe(result)}")
+    check(lines[-1] == "progress: 100%", f"the last progress line should be 100%: {describe(result)}")
+    for row in ("Mesh quality report", "tetrahedra", "max radius-edge ratio", "distance to marching cubes", "time"):
+        check(row in result.stdout, f"the report table lacks '{row}': {describe(result)}")
+
+
+def main(program, images, output):
+    default_report = check_file_formats_agree(program, images, output)
+    check_dicom_series(program, images, output)
+    check_iso_value(program, images, output)
+    check_options(program, os.path.join(images, "labels.nii.gz"), output, default_report)
+    check_progress_and_table(program, os.path.join(images, "labels.nii.gz"), output)
+    print("NIfTI, NRRD, MetaImage and DICOM inputs, --iso, --labels, --delta, --radius-edge, --min-dihedral and "
+          "progress: all as expected")
+
+
+if __name__ == "__main__":
+    main(*sys.argv[1:])

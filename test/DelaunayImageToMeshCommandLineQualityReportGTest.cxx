@@ -1,0 +1,359 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+
+// The quality report that delaunay-image-to-mesh prints, on the unit cube cut into the six Kuhn tetrahedra
+// (0, e_a, e_a + e_b, (1, 1, 1)) for the orders (a, b, c) of the axes, against a 2 x 2 x 2-voxel segmentation
+// of the same cube. Every expected value is derived in the comments.
+
+#include "DelaunayImageToMeshQualityReport.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+namespace delaunay_refinement
+{
+namespace
+{
+
+constexpr double Tolerance = 1e-9;
+
+using Face = std::array<uint32_t, 3>;
+
+double
+SignedVolume(const TetrahedralMesh & mesh, const std::array<uint32_t, 4> & t)
+{
+  const Vector3 & p = mesh.points[t[0]];
+  return Dot(mesh.points[t[1]] - p, Cross(mesh.points[t[2]] - p, mesh.points[t[3]] - p)) / 6.0;
+}
+
+/** Cube corner (x, y, z) in {0, 1}^3 is point x + 2y + 4z. Tetrahedra whose x runs ahead of y get label 1,
+ * the others `otherLabel`. */
+TetrahedralMesh
+KuhnCube(Label otherLabel)
+{
+  TetrahedralMesh mesh;
+  for (uint32_t corner = 0; corner < 8; ++corner)
+  {
+    mesh.points.push_back({ { double(corner & 1u), double((corner >> 1) & 1u), double((corner >> 2) & 1u) } });
+  }
+  mesh.pointKinds.assign(8, VertexKind::BoxEdge);
+  std::array<uint32_t, 3> axes{ { 0, 1, 2 } };
+  do
+  {
+    const uint32_t          first = 1u << axes[0];
+    std::array<uint32_t, 4> tetrahedron{ { 0, first, first | (1u << axes[1]), 7 } };
+    if (SignedVolume(mesh, tetrahedron) < 0.0)
+    {
+      std::swap(tetrahedron[2], tetrahedron[3]);
+    }
+    mesh.tetrahedra.push_back(tetrahedron);
+    const bool xBeforeY = std::find(axes.begin(), axes.end(), 0u) < std::find(axes.begin(), axes.end(), 1u);
+    mesh.tetrahedronLabels.push_back(xBeforeY ? 1 : otherLabel);
+  } while (std::next_permutation(axes.begin(), axes.end()));
+  return mesh;
+}
+
+/** Adds the faces between different labels (the background outside), as the core makes them: outwards from
+ * the tetrahedron's side, interfaces once, from the smaller label. */
+void
+AddBoundaryTriangles(TetrahedralMesh & mesh)
+{
+  std::map<Face, std::vector<std::pair<Face, Label>>> sidesOfFace;
+  for (std::size_t i = 0; i < mesh.tetrahedra.size(); ++i)
+  {
+    const auto & t = mesh.tetrahedra[i];
+    for (const Face & outwards : { Face{ { t[0], t[2], t[1] } },
+                                   Face{ { t[0], t[1], t[3] } },
+                                   Face{ { t[0], t[3], t[2] } },
+                                   Face{ { t[1], t[2], t[3] } } })
+    {
+      Face key = outwards;
+      std::sort(key.begin(), key.end());
+      sidesOfFace[key].emplace_back(outwards, mesh.tetrahedronLabels[i]);
+    }
+  }
+  for (const auto & faceAndSides : sidesOfFace)
+  {
+    const auto & sides = faceAndSides.second;
+    const Label  other = sides.size() == 2 ? sides[1].second : BackgroundLabel;
+    if (sides.size() == 1 || sides[0].second < other)
+    {
+      mesh.boundaryTriangles.push_back(sides[0].first);
+      mesh.boundaryTriangleLabels.push_back({ { sides[0].second, other } });
+    }
+    else if (other < sides[0].second)
+    {
+      mesh.boundaryTriangles.push_back(sides[1].first);
+      mesh.boundaryTriangleLabels.push_back({ { other, sides[0].second } });
+    }
+  }
+}
+
+/** 4 x 4 x 4 voxels of 0.5 mm centred at -0.25, 0.25, 0.75, 1.25 on each axis: the 2 x 2 x 2 voxels inside the
+ * unit cube carry labels (volume 8 x 0.125 = 1 mm³), split at x = y like the mesh when `otherLabel` is not 1: a
+ * voxel with i >= j is label 1 (6 voxels, 0.75 mm³), i < j is `otherLabel` (2 voxels, 0.25 mm³). */
+LabelVolume
+CubeSegmentation(Label otherLabel)
+{
+  LabelVolume volume;
+  volume.size = { { 4, 4, 4 } };
+  volume.spacing = { { 0.5, 0.5, 0.5 } };
+  volume.origin = { { -0.25, -0.25, -0.25 } };
+  volume.labels.assign(64, BackgroundLabel);
+  for (std::size_t k = 1; k <= 2; ++k)
+  {
+    for (std::size_t j = 1; j <= 2; ++j)
+    {
+      for (std::size_t i = 1; i <= 2; ++i)
+      {
+        volume.labels[i + 4 * (j + 4 * k)] = i >= j ? 1 : otherLabel;
+      }
+    }
+  }
+  return volume;
+}
+
+QualityReport
+CubeReport(Label otherLabel)
+{
+  TetrahedralMesh mesh = KuhnCube(otherLabel);
+  AddBoundaryTriangles(mesh);
+  return ComputeQualityReport(mesh, CubeSegmentation(otherLabel));
+}
+
+const LabelQuality &
+EntryOf(const QualityReport & report, Label label)
+{
+  const auto entry = std::find_if(report.labels.begin(), report.labels.end(), [label](const LabelQuality & quality) {
+    return quality.label == label;
+  });
+  if (entry == report.labels.end())
+  {
+    throw std::logic_error("no entry for label " + std::to_string(label));
+  }
+  return *entry;
+}
+
+std::string
+JsonOf(const QualityReport & report)
+{
+  std::ostringstream json;
+  WriteQualityReportJson(report, json);
+  return json.str();
+}
+
+TEST(QualityReport, SingleLabelCubeCountsAndShape)
+{
+  const QualityReport report = CubeReport(1);
+  EXPECT_EQ(report.vertices, 8u);
+  EXPECT_EQ(report.tetrahedra, 6u);
+  // Each of the 6 square faces is cut into 2 triangles.
+  EXPECT_EQ(report.boundaryTriangles, 12u);
+  // A Kuhn tetrahedron has dihedral angles 45, 45, 60, 90, 90, 90 degrees; its circumsphere is the cube's
+  // (radius √3 / 2) and its shortest edge 1.
+  EXPECT_NEAR(report.minimumDihedralAngle, 45.0, Tolerance);
+  EXPECT_NEAR(report.maximumDihedralAngle, 90.0, Tolerance);
+  EXPECT_NEAR(report.maximumRadiusEdgeRatio, std::sqrt(3.0) / 2.0, Tolerance);
+  EXPECT_EQ(report.invertedTetrahedra, 0u);
+  // The boundary triangles are right isosceles.
+  EXPECT_NEAR(report.minimumBoundaryPlanarAngle, 45.0, Tolerance);
+}
+
+TEST(QualityReport, SingleLabelCubeTopologyAndVolume)
+{
+  const QualityReport report = CubeReport(1);
+  ASSERT_EQ(report.labels.size(), 1u);
+  const LabelQuality & cube = report.labels[0];
+  EXPECT_EQ(cube.label, 1);
+  EXPECT_EQ(cube.vertices, 8u);
+  EXPECT_EQ(cube.tetrahedra, 6u);
+  EXPECT_EQ(cube.boundary.numberOfTriangles, 12u);
+  EXPECT_TRUE(report.IsManifold());
+  EXPECT_EQ(cube.boundary.numberOfComponents, 1);
+  EXPECT_EQ(cube.boundary.totalGenus, 0);
+  EXPECT_NEAR(cube.meshVolume, 1.0, Tolerance);
+  EXPECT_NEAR(cube.segmentedVolume, 1.0, Tolerance);
+  EXPECT_NEAR(report.meshVolume, 1.0, Tolerance);
+  EXPECT_NEAR(report.segmentedVolume, 1.0, Tolerance);
+}
+
+TEST(QualityReport, DistanceToMarchingCubes)
+{
+  const QualityReport report = CubeReport(1);
+  // The voxel spacing.
+  EXPECT_NEAR(report.distanceSampleSpacing, 0.5, Tolerance);
+  // Marching cubes puts its vertices halfway between voxel centres: on the cube's faces, except that it cuts
+  // each corner by the plane x + y + z = 2.5 (through the midpoints (1, 0.75, 0.75), ...). The cube's corner
+  // (1, 1, 1), a sample, is (3 - 2.5) / √3 from it, and nothing is farther.
+  const DistanceStatistics & distance = report.distanceToMarchingCubes;
+  EXPECT_GT(distance.count, 0u);
+  EXPECT_NEAR(distance.maximum, 0.5 / std::sqrt(3.0), Tolerance);
+  EXPECT_GE(distance.percentile95, distance.mean);
+  EXPECT_GE(distance.maximum, distance.percentile95);
+  EXPECT_GT(distance.mean, 0.0);
+}
+
+TEST(QualityReport, MinimumDihedralAngleHistogram)
+{
+  const QualityReport    report = CubeReport(1);
+  const AngleHistogram & histogram = report.minimumDihedralAngleHistogram;
+  EXPECT_EQ(histogram.binWidth, 2.0);
+  ASSERT_EQ(histogram.counts.size(), 45u);
+  // All six tetrahedra have smallest dihedral angle 45°, in the bin [44°, 46°).
+  for (std::size_t bin = 0; bin < histogram.counts.size(); ++bin)
+  {
+    EXPECT_EQ(histogram.counts[bin], bin == 22 ? 6u : 0u) << "bin " << bin;
+  }
+}
+
+TEST(QualityReport, TwoLabelsMeetAtAnInterface)
+{
+  const QualityReport report = CubeReport(2);
+  // The plane x = y holds the interface: triangles (0, 3, 7) and (0, 4, 7), written once.
+  EXPECT_EQ(report.boundaryTriangles, 12u + 2u);
+  ASSERT_EQ(report.labels.size(), 2u);
+  for (const Label label : { 1, 2 })
+  {
+    const LabelQuality & half = EntryOf(report, label);
+    // Each half is a triangular prism: 3 tetrahedra, 6 corners, 6 outer triangles + the 2 interface ones, a
+    // closed surface of genus 0.
+    EXPECT_EQ(half.tetrahedra, 3u) << label;
+    EXPECT_EQ(half.vertices, 6u) << label;
+    EXPECT_EQ(half.boundary.numberOfTriangles, 8u) << label;
+    EXPECT_TRUE(half.boundary.IsClosedManifold()) << label;
+    EXPECT_EQ(half.boundary.numberOfComponents, 1) << label;
+    EXPECT_EQ(half.boundary.totalGenus, 0) << label;
+    EXPECT_NEAR(half.meshVolume, 0.5, Tolerance) << label;
+  }
+  EXPECT_NEAR(EntryOf(report, 1).segmentedVolume, 0.75, Tolerance);
+  EXPECT_NEAR(EntryOf(report, 2).segmentedVolume, 0.25, Tolerance);
+  EXPECT_TRUE(report.IsManifold());
+}
+
+TEST(QualityReport, LabelOnlyInTheSegmentationIsListed)
+{
+  TetrahedralMesh mesh = KuhnCube(1);
+  AddBoundaryTriangles(mesh);
+  // Label 3 lost by the mesher (too small, say) must show up with its voxels and no tetrahedron.
+  const QualityReport report = ComputeQualityReport(mesh, CubeSegmentation(3));
+  ASSERT_EQ(report.labels.size(), 2u);
+  EXPECT_EQ(EntryOf(report, 3).tetrahedra, 0u);
+  EXPECT_NEAR(EntryOf(report, 3).segmentedVolume, 0.25, Tolerance);
+  EXPECT_NEAR(report.segmentedVolume, 1.0, Tolerance);
+}
+
+TEST(QualityReport, InconsistentMeshIsRejected)
+{
+  TetrahedralMesh mesh = KuhnCube(1);
+  mesh.tetrahedronLabels.pop_back();
+  EXPECT_THROW(ComputeQualityReport(mesh, CubeSegmentation(1)), std::invalid_argument);
+  mesh = KuhnCube(1);
+  mesh.tetrahedra[0][3] = 8;
+  EXPECT_THROW(ComputeQualityReport(mesh, CubeSegmentation(1)), std::invalid_argument);
+}
+
+TEST(QualityReport, JsonHoldsTheNumbersAndTheRun)
+{
+  QualityReport report = CubeReport(1);
+  report.run.inputFile = "cube.nii.gz";
+  report.run.surfaceSamplingDistance = 0.5;
+  report.run.phaseSeconds = { { "read", 0.25 }, { "mesh", 1.5 } };
+  report.run.peakResidentMemoryBytes = 1048576;
+  const std::string json = JsonOf(report);
+  EXPECT_NE(json.find("\"input\": \"cube.nii.gz\""), std::string::npos) << json;
+  EXPECT_NE(json.find("\"delta_mm\": 0.5"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"tetrahedra\": 6,"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"manifold\": true"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"boundary_genus\": 0"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"time_seconds\": {\n    \"read\": 0.25,\n    \"mesh\": 1.5\n  }"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"peak_memory_bytes\": 1048576"), std::string::npos) << json;
+  const std::string histogramStart =
+    "\"counts\": [0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 6, 0";
+  EXPECT_NE(json.find(histogramStart), std::string::npos) << json;
+}
+
+TEST(QualityReport, JsonEscapesTextAndHasNoInfinity)
+{
+  QualityReport report = CubeReport(1);
+  report.run.inputFile = "a \"quoted\" C:\\path\n";
+  report.maximumRadiusEdgeRatio = std::numeric_limits<double>::infinity();
+  report.distanceToMarchingCubes.mean = std::numeric_limits<double>::quiet_NaN();
+  const std::string json = JsonOf(report);
+  EXPECT_NE(json.find(R"("input": "a \"quoted\" C:\\path\n")"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"max_radius_edge_ratio\": null"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"mean_mm\": null"), std::string::npos) << json;
+  EXPECT_EQ(json.find("inf"), std::string::npos) << json;
+  EXPECT_EQ(json.find("nan"), std::string::npos) << json;
+}
+
+TEST(QualityReport, GenusOfANonManifoldBoundaryIsNotReported)
+{
+  TetrahedralMesh mesh = KuhnCube(1);
+  AddBoundaryTriangles(mesh);
+  // Dropping a boundary triangle opens the surface: three of its edges now bound a single triangle.
+  mesh.boundaryTriangles.pop_back();
+  mesh.boundaryTriangleLabels.pop_back();
+  const QualityReport report = ComputeQualityReport(mesh, CubeSegmentation(1));
+  EXPECT_FALSE(report.IsManifold());
+  EXPECT_EQ(report.nonManifoldEdges, 3u);
+  const std::string json = JsonOf(report);
+  EXPECT_NE(json.find("\"boundary_genus\": null"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"manifold\": false"), std::string::npos) << json;
+}
+
+TEST(QualityReport, TableNamesEveryMeasure)
+{
+  QualityReport report = CubeReport(2);
+  report.run.phaseSeconds = { { "read", 0.0 }, { "mesh", 0.0 }, { "report", 0.0 }, { "write", 0.0 } };
+  std::ostringstream table;
+  PrintQualityReport(report, table);
+  for (const char * row : { "vertices                    8\n",
+                            "tetrahedra                  6\n",
+                            "boundary triangles          14\n",
+                            "dihedral angle min / max    45.000 / 90.000 deg\n",
+                            "max radius-edge ratio       0.866\n",
+                            // The interface triangle (0, 3, 7) has the angle asin(1 / √3) = 35.26° at 0.
+                            "min boundary planar angle   35.26 deg\n",
+                            "manifold boundaries         yes",
+                            "volume mesh / segmented",
+                            "distance to marching cubes  mean ",
+                            "read 0.00 s, mesh 0.00 s, report 0.00 s, write 0.00 s",
+                            "peak memory" })
+  {
+    EXPECT_NE(table.str().find(row), std::string::npos) << "missing '" << row << "' in\n" << table.str();
+  }
+  // One row per label, after the column headings.
+  EXPECT_NE(table.str().find("\n        1         6           3          8         0.5"), std::string::npos)
+    << table.str();
+  EXPECT_NE(table.str().find("\n        2         6           3          8         0.5"), std::string::npos)
+    << table.str();
+}
+
+TEST(QualityReport, PeakMemoryIsMeasured)
+{
+  EXPECT_GT(PeakResidentMemoryBytes(), 1024u * 1024u);
+}
+
+} // namespace
+} // namespace delaunay_refinement
