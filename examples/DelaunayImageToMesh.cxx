@@ -29,6 +29,7 @@
 #include "itkImageIOFactory.h"
 #include "itkImageRegionConstIterator.h"
 #include "itkImageSeriesReader.h"
+#include "itkLabelVolume.h"
 #include "itkMesh.h"
 #include "itkVersion.h"
 
@@ -96,6 +97,7 @@ struct Options
   double minimumDihedralAngle{ 0.0 };
   /** Empty = every non-zero label. */
   std::vector<Label>    labels;
+  bool                  mergeLabels{ false };
   std::optional<double> isoValue;
   std::size_t           maximumNumberOfVertices{ delaunay_refinement::RefinementParameters{}.maximumNumberOfVertices };
   std::string           reportPath;
@@ -125,8 +127,10 @@ PrintHelp(std::ostream & out)
       << "  --min-dihedral DEG       also split tetrahedra with a dihedral angle below DEG, 0 to 30 (the R4'\n"
       << "                           variant; default: off). Nothing is proven with it.\n"
       << "  --labels all|L1,L2,...   the labels to mesh, each as a tissue (default: all = every non-zero label)\n"
+      << "  --merge-labels           mesh the selected labels as one object, label 1 (e.g. a mask whose values\n"
+      << "                           are classes; default: each label is a tissue)\n"
       << "  --iso VALUE              treat INPUT as a gray image: mesh where the linearly interpolated value is\n"
-      << "                           >= VALUE, as label 1 (cannot be combined with --labels)\n"
+      << "                           >= VALUE, as label 1 (cannot be combined with --labels or --merge-labels)\n"
       << "  --max-vertices N         fail beyond N vertices (default: "
       << delaunay_refinement::RefinementParameters{}.maximumNumberOfVertices << ")\n"
       << "  --report FILE.json       also write the quality report as JSON\n"
@@ -262,6 +266,10 @@ ApplyFlag(const std::string & option, const OptionValue & value, Options & optio
   {
     options.quiet = true;
   }
+  else if (option == "--merge-labels")
+  {
+    options.mergeLabels = true;
+  }
   else if (option == "--help")
   {
     options.action = Options::Action::PrintHelp;
@@ -366,7 +374,7 @@ ParseArguments(const std::vector<std::string> & arguments)
     }
     OptionValue value(arguments, index, inlineValue);
     ApplyOption(option, value, options);
-    labelsGiven = labelsGiven || option == "--labels";
+    labelsGiven = labelsGiven || option == "--labels" || option == "--merge-labels";
   }
   if (options.action != Options::Action::Mesh)
   {
@@ -374,7 +382,8 @@ ParseArguments(const std::vector<std::string> & arguments)
   }
   if (labelsGiven && options.isoValue)
   {
-    throw UserError("--iso and --labels cannot be combined: --iso meshes a gray image as the single label 1");
+    throw UserError("--iso cannot be combined with --labels or --merge-labels: --iso meshes a gray image as the "
+                    "single label 1");
   }
   CheckPositionalArguments(positional, options);
   return options;
@@ -630,6 +639,7 @@ MakeFilter(const TImage * image, const Options & options)
   else
   {
     filter->SetLabels(options.labels);
+    filter->SetMergeLabels(options.mergeLabels);
   }
   return filter;
 }
@@ -650,48 +660,6 @@ RunFilter(itk::ProcessObject * filter, bool quiet)
   {
     throw UserError("meshing failed: " + OneLine(error.GetDescription()));
   }
-}
-
-/** The voxels the mesh should reproduce, as the report's reference: the selected labels (every other voxel
- * 0), or 1 where a gray value reaches the iso-value. */
-template <typename TImage>
-delaunay_refinement::LabelVolume
-SegmentationOf(const TImage * image, const Options & options)
-{
-  delaunay_refinement::LabelVolume volume;
-  const auto &                     region = image->GetBufferedRegion();
-  typename TImage::PointType       origin;
-  image->TransformIndexToPhysicalPoint(region.GetIndex(), origin);
-  for (unsigned int axis = 0; axis < 3; ++axis)
-  {
-    volume.size[axis] = region.GetSize(axis);
-    volume.origin[axis] = origin[axis];
-    volume.spacing[axis] = image->GetSpacing()[axis];
-    for (unsigned int column = 0; column < 3; ++column)
-    {
-      volume.direction[axis][column] = image->GetDirection()(axis, column);
-    }
-  }
-  const auto isSelected = [&options](Label label) {
-    return label != delaunay_refinement::BackgroundLabel &&
-           (options.labels.empty() || std::binary_search(options.labels.begin(), options.labels.end(), label));
-  };
-  volume.labels.reserve(region.GetNumberOfPixels());
-  // The iterator runs x fastest, then y, then z: LabelVolume's order.
-  for (itk::ImageRegionConstIterator<TImage> it(image, region); !it.IsAtEnd(); ++it)
-  {
-    const auto value = it.Get();
-    if (options.isoValue)
-    {
-      volume.labels.push_back(value >= *options.isoValue ? 1 : delaunay_refinement::BackgroundLabel);
-    }
-    else
-    {
-      const auto label = static_cast<Label>(value);
-      volume.labels.push_back(isSelected(label) ? label : delaunay_refinement::BackgroundLabel);
-    }
-  }
-  return volume;
 }
 
 void
@@ -728,7 +696,8 @@ MeshImage(const Options & options)
   if (wantReport)
   {
     const Stopwatch reportTime;
-    report = delaunay_refinement::ComputeQualityReport(mesh, SegmentationOf(image.GetPointer(), options));
+    // The reference is what the filter meshed: the voxels after label selection, merging or the iso-value.
+    report = delaunay_refinement::ComputeQualityReport(mesh, itk::MakeLabelVolume(filter->GetObjectLabelImage()));
     phaseSeconds.emplace_back("report", reportTime.Seconds());
   }
 

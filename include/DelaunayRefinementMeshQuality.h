@@ -83,9 +83,18 @@ struct SurfaceTopology
 DelaunayImageToMesh_EXPORT SurfaceTopology
 ComputeSurfaceTopology(const std::vector<Vector3> & points, const std::vector<std::array<uint32_t, 3>> & triangles);
 
+/** The vertices where the triangles do not form a 2-manifold: a vertex whose link is not a single cycle, or an
+ * endpoint of an edge in a number of triangles other than two. Sorted, without repeats. */
+DelaunayImageToMesh_EXPORT std::vector<uint32_t>
+                           FindNonManifoldVertices(const std::vector<std::array<uint32_t, 3>> & triangles);
+
 /** Topology of every boundary triangle of the mesh (all labels together). */
 DelaunayImageToMesh_EXPORT SurfaceTopology
 ComputeBoundaryTopology(const TetrahedralMesh & mesh);
+
+/** The boundary triangles with `label` on one of their sides: the boundary of the tetrahedra so labelled. */
+DelaunayImageToMesh_EXPORT std::vector<std::array<uint32_t, 3>>
+                           LabelBoundaryTriangles(const TetrahedralMesh & mesh, Label label);
 
 /** Topology of the boundary of the tetrahedra labelled `label`: every boundary triangle with `label` on
  * one of its sides. */

@@ -41,6 +41,16 @@ struct RefinementParameters
   double minimumDihedralAngle{ 0.0 };
   /** Safety cap on the number of vertices of the triangulation; exceeding it throws VertexLimitExceeded. */
   std::size_t maximumNumberOfVertices{ 10000000 };
+  /** Where a tissue's boundary comes out non-manifold (features thinner than δ), δ is halved locally and the
+   * refinement resumed, at most this many times (down to δ / 2^levels). 0 = the paper's algorithm alone.
+   * Every guarantee holds with the local δ. Only isolated defects are mended: when more than 5 % of the
+   * boundary vertices are non-manifold (voxel-scale speckle) refining cannot help and is not tried. Must be
+   * in [0, 10]. */
+  unsigned int manifoldRefinementLevels{ 3 };
+  /** The manifold refinement never takes δ below this: the oracle's resolution (the smallest voxel spacing for
+   * an image, where finer sampling only resolves voxel corners that touch diagonally). 0 = no floor. Must be
+   * finite and >= 0. */
+  double minimumSurfaceSamplingDistance{ 0.0 };
 };
 
 /** Throws std::invalid_argument naming the parameter, its value and the valid range. */
@@ -66,6 +76,14 @@ struct RefinementStatistics
   /** R2 circumcentres outside the box whose box exit point fell on an edge or a vertex of the hull triangulation
    * instead of inside one of its facets, so that no box facet could be chosen (measure zero; expected 0). */
   std::size_t unresolvedBoxEncroachments{ 0 };
+  /** Rounds of local refinement for manifoldness, the zones of smaller δ they created, and the boundary
+   * vertices still non-manifold at the end (0 unless the levels ran out, e.g. on voxel-scale speckle). */
+  std::size_t manifoldRefinementRounds{ 0 };
+  std::size_t manifoldRefinementZones{ 0 };
+  std::size_t remainingNonManifoldVertices{ 0 };
+  /** The smallest local δ the refinement used (δ itself unless the manifold refinement refined somewhere):
+   * Lemma 2's edge bounds hold with it. */
+  double finestSurfaceSamplingDistance{ 0.0 };
   /** Vertices of the final triangulation, box vertices included. */
   std::size_t triangulationVertices{ 0 };
   double      refinementSeconds{ 0.0 };

@@ -18,14 +18,13 @@
 #ifndef itkDelaunayImageToMeshFilter_h
 #define itkDelaunayImageToMeshFilter_h
 
+#include "DelaunayRefinementMesher.h"
+
+#include "itkImage.h"
 #include "itkImageToMeshFilter.h"
 #include "itkInterpolateImageFunction.h"
 
 #include <vector>
-
-#if !defined(ITK_WRAPPING_PARSER)
-#  include "DelaunayRefinementMesher.h"
-#endif
 
 namespace itk
 {
@@ -83,6 +82,7 @@ public:
   using LabelListType = std::vector<LabelType>;
   using LabelPairType = std::array<LabelType, 2>;
   using LabelPairListType = std::vector<LabelPairType>;
+  using ObjectLabelImageType = Image<LabelType, 3>;
 
   /** δ, the surface sampling distance in physical units (mm): smaller is finer and closer to the surface.
    * 0 (the default) picks 4 × the largest voxel spacing. Valid: 0 or a finite value > 0. */
@@ -98,6 +98,13 @@ public:
    * valid: [0, 30]. With σ > 0 nothing is proven: the 30° boundary bound may not hold. */
   itkSetMacro(MinimumDihedralAngle, double);
   itkGetConstMacro(MinimumDihedralAngle, double);
+
+  /** Where a tissue's boundary comes out non-manifold (a slit or bridge thinner than δ), δ is halved locally
+   * and the refinement resumed, at most this many times (down to δ / 2^levels, never below the smallest voxel
+   * spacing); every guarantee holds with the local δ. Default 3; 0 = the paper's algorithm alone; valid:
+   * [0, 10]. */
+  itkSetMacro(ManifoldRefinementLevels, unsigned int);
+  itkGetConstMacro(ManifoldRefinementLevels, unsigned int);
 
   /** A cap on the vertices of the triangulation; reaching it raises an exception. Default 10,000,000. */
   itkSetMacro(MaximumNumberOfVertices, SizeValueType);
@@ -125,6 +132,12 @@ public:
   {
     return m_Labels;
   }
+  /** Mesh every selected label as one object, labelled 1: for masks whose values encode something other than
+   * tissues. Default off (each selected label is a tissue). */
+  itkSetMacro(MergeLabels, bool);
+  itkGetConstMacro(MergeLabels, bool);
+  itkBooleanMacro(MergeLabels);
+
   /** Adds one label to mesh (the form scripting languages use). */
   void
   AddLabel(LabelType label);
@@ -161,6 +174,14 @@ public:
     return m_RefinedMesh;
   }
 
+  /** The voxel labels the last update meshed (after label selection, merging or the iso-value), padded with
+   * one voxel of background: the reference for fidelity measurements. */
+  const ObjectLabelImageType *
+  GetObjectLabelImage() const
+  {
+    return m_ObjectLabelImage;
+  }
+
   /** What the refinement did during the last update. */
   const delaunay_refinement::RefinementStatistics &
   GetRefinementStatistics() const
@@ -186,25 +207,26 @@ private:
   ResolveSurfaceSamplingDistance(const InputImageType * image) const;
   InterpolatorPointer
   MakeInterpolator(const InputImageType * image) const;
-#if !defined(ITK_WRAPPING_PARSER)
   void
   FillOutputs(const delaunay_refinement::TetrahedralMesh & mesh);
-#endif
 
   double              m_SurfaceSamplingDistance{ 0.0 };
   double              m_EffectiveSurfaceSamplingDistance{ 0.0 };
   double              m_RadiusEdgeBound{ 2.0 };
   double              m_MinimumDihedralAngle{ 0.0 };
   SizeValueType       m_MaximumNumberOfVertices{ 10000000 };
+  unsigned int        m_ManifoldRefinementLevels{ 3 };
+  bool                m_MergeLabels{ false };
   InterpolatorPointer m_Interpolator;
   double              m_IsoValue{ 0.0 };
   bool                m_UseIsoValue{ false };
   LabelListType       m_Labels;
   LabelPairListType   m_InterfaceLabels;
-#if !defined(ITK_WRAPPING_PARSER)
-  delaunay_refinement::TetrahedralMesh      m_RefinedMesh;
-  delaunay_refinement::RefinementStatistics m_RefinementStatistics;
-#endif
+  // Private members and the .hxx are parsed by CastXML too: only the public accessors above are hidden from
+  // the wrapping, because SWIG cannot wrap their std::array and core types.
+  delaunay_refinement::TetrahedralMesh        m_RefinedMesh;
+  delaunay_refinement::RefinementStatistics   m_RefinementStatistics;
+  typename ObjectLabelImageType::ConstPointer m_ObjectLabelImage;
 };
 
 } // namespace itk

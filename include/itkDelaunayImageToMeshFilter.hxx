@@ -181,6 +181,10 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
   parameters.radiusEdgeBound = m_RadiusEdgeBound;
   parameters.minimumDihedralAngle = m_MinimumDihedralAngle;
   parameters.maximumNumberOfVertices = m_MaximumNumberOfVertices;
+  parameters.manifoldRefinementLevels = m_ManifoldRefinementLevels;
+  // Below the voxel size, finer sampling resolves voxels that touch only diagonally: never more manifold.
+  const auto & spacing = image->GetSpacing();
+  parameters.minimumSurfaceSamplingDistance = *std::min_element(spacing.Begin(), spacing.End());
   try
   {
     delaunay_refinement::ValidateParameters(parameters);
@@ -192,7 +196,9 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
 
   this->UpdateProgress(0.0f);
   const InterpolatorPointer              interpolator = MakeInterpolator(image);
-  const ImageLabelOracle<InputImageType> oracle(image, interpolator, m_Labels, m_UseIsoValue, m_IsoValue);
+  const ImageLabelOracle<InputImageType> oracle(
+    image, interpolator, ImageLabelMapping{ m_Labels, m_MergeLabels, m_UseIsoValue, m_IsoValue });
+  m_ObjectLabelImage = oracle.GetLabelImage();
   if (oracle.GetNumberOfObjectVoxels() == 0)
   {
     itkExceptionMacro(<< "No voxel of the input is part of the object ("
@@ -298,6 +304,8 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf(std::ostream & os
   os << indent << "RadiusEdgeBound: " << m_RadiusEdgeBound << std::endl;
   os << indent << "MinimumDihedralAngle: " << m_MinimumDihedralAngle << std::endl;
   os << indent << "MaximumNumberOfVertices: " << m_MaximumNumberOfVertices << std::endl;
+  os << indent << "ManifoldRefinementLevels: " << m_ManifoldRefinementLevels << std::endl;
+  os << indent << "MergeLabels: " << (m_MergeLabels ? "On" : "Off") << std::endl;
   itkPrintSelfObjectMacro(Interpolator);
   os << indent << "IsoValue: " << m_IsoValue << std::endl;
   os << indent << "UseIsoValue: " << (m_UseIsoValue ? "On" : "Off") << std::endl;
@@ -311,7 +319,10 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf(std::ostream & os
   os << indent << "RefinedMesh: " << m_RefinedMesh.points.size() << " points, " << m_RefinedMesh.tetrahedra.size()
      << " tetrahedra, " << m_RefinedMesh.boundaryTriangles.size() << " boundary triangles" << std::endl;
   os << indent << "RefinementStatistics: " << m_RefinementStatistics.triangulationVertices
-     << " triangulation vertices, " << m_RefinementStatistics.refinementSeconds << " s" << std::endl;
+     << " triangulation vertices, " << m_RefinementStatistics.refinementSeconds << " s, "
+     << m_RefinementStatistics.manifoldRefinementZones << " manifold refinement zones, "
+     << m_RefinementStatistics.remainingNonManifoldVertices << " non-manifold vertices left" << std::endl;
+  os << indent << "ObjectLabelImage: " << m_ObjectLabelImage.GetPointer() << std::endl;
 }
 
 } // namespace itk

@@ -29,6 +29,18 @@
 namespace itk
 {
 
+/** How voxel values become the labels the refinement sees. */
+struct ImageLabelMapping
+{
+  /** The labels to mesh; empty = every non-zero label. */
+  std::vector<delaunay_refinement::Label> selectedLabels;
+  /** Mesh every selected label as one object, labelled 1 (a mask whose values encode something else). */
+  bool mergeLabels{ false };
+  /** Gray values: label 1 where the interpolated value is >= isoValue, 0 elsewhere. */
+  bool   useIsoValue{ false };
+  double isoValue{ 0.0 };
+};
+
 /** \class ImageLabelOracle
  * \brief The refinement's view of an image: labels from an ITK interpolator, closest surface points from a
  * Danielsson feature map of the label interfaces, snapped onto the interpolator's surface by bisection.
@@ -62,9 +74,7 @@ public:
   using PointType = typename LabelImageType::PointType;
   using Vector3 = delaunay_refinement::Vector3;
 
-  /** `selectedLabels` empty = every non-zero label. With `useIsoValue` the labels are 0/1 by `isoValue`. */
-  ImageLabelOracle(const InputImageType * image, const InterpolatorType * interpolator,
-                   const std::vector<LabelType> & selectedLabels, bool useIsoValue, double isoValue);
+  ImageLabelOracle(const InputImageType * image, const InterpolatorType * interpolator, ImageLabelMapping mapping);
 
   LabelType
   LabelAt(const Vector3 & point) const override;
@@ -108,9 +118,7 @@ private:
 
   typename InputImageType::ConstPointer    m_Image;
   typename InterpolatorType::ConstPointer  m_Interpolator;
-  std::vector<LabelType>                   m_SelectedLabels;
-  bool                                     m_UseIsoValue;
-  double                                   m_IsoValue;
+  ImageLabelMapping                        m_Mapping;
   typename LabelImageType::Pointer         m_LabelImage;
   typename FeatureOffsetImageType::Pointer m_FeatureOffsets;
   delaunay_refinement::AxisAlignedBox      m_ObjectBounds;

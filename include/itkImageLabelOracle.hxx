@@ -32,15 +32,12 @@ namespace itk
 
 template <typename TInputImage>
 ImageLabelOracle<TInputImage>::ImageLabelOracle(const InputImageType * image, const InterpolatorType * interpolator,
-                                                const std::vector<LabelType> & selectedLabels, bool useIsoValue,
-                                                double isoValue)
+                                                ImageLabelMapping mapping)
   : m_Image(image)
   , m_Interpolator(interpolator)
-  , m_SelectedLabels(selectedLabels)
-  , m_UseIsoValue(useIsoValue)
-  , m_IsoValue(isoValue)
+  , m_Mapping(std::move(mapping))
 {
-  std::sort(m_SelectedLabels.begin(), m_SelectedLabels.end());
+  std::sort(m_Mapping.selectedLabels.begin(), m_Mapping.selectedLabels.end());
   const auto & spacing = image->GetSpacing();
   m_SurfaceTolerance = 1e-4 * *std::min_element(spacing.Begin(), spacing.End());
   BuildLabelImage(image);
@@ -54,9 +51,9 @@ template <typename TInputImage>
 auto
 ImageLabelOracle<TInputImage>::MapValue(double value) const -> LabelType
 {
-  if (m_UseIsoValue)
+  if (m_Mapping.useIsoValue)
   {
-    return value >= m_IsoValue ? 1 : delaunay_refinement::BackgroundLabel;
+    return value >= m_Mapping.isoValue ? 1 : delaunay_refinement::BackgroundLabel;
   }
   if (!std::isfinite(value))
   {
@@ -64,11 +61,13 @@ ImageLabelOracle<TInputImage>::MapValue(double value) const -> LabelType
   }
   constexpr double largestLabel = static_cast<double>(std::numeric_limits<LabelType>::max());
   const auto       label = static_cast<LabelType>(std::lround(std::clamp(value, -largestLabel, largestLabel)));
-  if (m_SelectedLabels.empty() || std::binary_search(m_SelectedLabels.begin(), m_SelectedLabels.end(), label))
+  const auto &     selected = m_Mapping.selectedLabels;
+  if (label == delaunay_refinement::BackgroundLabel ||
+      !(selected.empty() || std::binary_search(selected.begin(), selected.end(), label)))
   {
-    return label;
+    return delaunay_refinement::BackgroundLabel;
   }
-  return delaunay_refinement::BackgroundLabel;
+  return m_Mapping.mergeLabels ? 1 : label;
 }
 
 template <typename TInputImage>

@@ -117,7 +117,7 @@ template <typename TMesh>
 IndexSpacePoint
 ToIndexSpace(const TMesh & mesh, typename TMesh::PointIdentifier pointId, const ImageBase<3> & referenceGrid)
 {
-  const auto    meshPoint = mesh.GetPoint(pointId);
+  const auto       meshPoint = mesh.GetPoint(pointId);
   Point<double, 3> physicalPoint;
   for (unsigned int axis = 0; axis < 3; ++axis)
   {
@@ -130,10 +130,8 @@ ToIndexSpace(const TMesh & mesh, typename TMesh::PointIdentifier pointId, const 
 /** Writes `label` into every voxel whose centre `tetrahedron` contains. */
 template <typename TLabelImage>
 void
-RasterizeTetrahedron(const IndexSpaceTetrahedron &         tetrahedron,
-                     typename TLabelImage::PixelType        label,
-                     const typename TLabelImage::RegionType & region,
-                     TLabelImage &                          image)
+RasterizeTetrahedron(const IndexSpaceTetrahedron & tetrahedron, typename TLabelImage::PixelType label,
+                     const typename TLabelImage::RegionType & region, TLabelImage & image)
 {
   IndexValueType first[3];
   IndexValueType last[3];
@@ -155,9 +153,9 @@ RasterizeTetrahedron(const IndexSpaceTetrahedron &         tetrahedron,
     {
       for (index[0] = first[0]; index[0] <= last[0]; ++index[0])
       {
-        const IndexSpacePoint center{ { static_cast<double>(index[0]),
-                                        static_cast<double>(index[1]),
-                                        static_cast<double>(index[2]) } };
+        const IndexSpacePoint center{
+          { static_cast<double>(index[0]), static_cast<double>(index[1]), static_cast<double>(index[2]) }
+        };
         if (Contains(tetrahedron, center))
         {
           image.SetPixel(index, label);
@@ -203,9 +201,9 @@ VoxelizeTetrahedralMesh(const TMesh & mesh, const ImageBase<3> & referenceGrid)
   // Later tetrahedra are written first, so that on a shared facet the first one in cell order wins.
   for (auto id = tetrahedronIds.rbegin(); id != tetrahedronIds.rend(); ++id)
   {
-    const auto *                     cell = cells->ElementAt(*id);
-    const auto *                     pointIds = cell->GetPointIds();
-    std::array<IndexSpacePoint, 4>   corners;
+    const auto *                   cell = cells->ElementAt(*id);
+    const auto *                   pointIds = cell->GetPointIds();
+    std::array<IndexSpacePoint, 4> corners;
     for (unsigned int corner = 0; corner < 4; ++corner)
     {
       corners[corner] = ToIndexSpace(mesh, pointIds[corner], referenceGrid);

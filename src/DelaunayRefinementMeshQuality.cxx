@@ -344,18 +344,19 @@ public:
     return m_LinkEdges.size();
   }
 
-  std::size_t
-  CountNonManifoldVertices() const
+  std::vector<uint32_t>
+  NonManifoldVertices() const
   {
-    std::size_t count = 0;
+    std::vector<uint32_t> vertices;
     for (const auto & entry : m_LinkEdges)
     {
       if (!IsSingleCycle(entry.first, entry.second))
       {
-        ++count;
+        vertices.push_back(entry.first);
       }
     }
-    return count;
+    std::sort(vertices.begin(), vertices.end());
+    return vertices;
   }
 
 private:
@@ -436,20 +437,6 @@ CheckTriangleIndices(const std::vector<Vector3> & points, const std::vector<Tria
   }
 }
 
-SurfaceTopology
-ComputeTopologyOfSelectedTriangles(const TetrahedralMesh & mesh, const std::vector<bool> & selected)
-{
-  std::vector<Triangle> triangles;
-  for (std::size_t i = 0; i < mesh.boundaryTriangles.size(); ++i)
-  {
-    if (selected[i])
-    {
-      triangles.push_back(mesh.boundaryTriangles[i]);
-    }
-  }
-  return ComputeSurfaceTopology(mesh.points, triangles);
-}
-
 } // namespace
 
 TetrahedronQuality
@@ -509,7 +496,7 @@ ComputeSurfaceTopology(const std::vector<Vector3> & points, const std::vector<st
 
   const VertexLinks links(triangles);
   topology.numberOfVertices = links.NumberOfVertices();
-  topology.nonManifoldVertices = links.CountNonManifoldVertices();
+  topology.nonManifoldVertices = links.NonManifoldVertices().size();
 
   std::size_t                        numberOfComponents = 0;
   const std::vector<std::size_t>     componentOfTriangle = LabelEdgeConnectedComponents(triangles, numberOfComponents);
@@ -529,21 +516,47 @@ ComputeSurfaceTopology(const std::vector<Vector3> & points, const std::vector<st
   return topology;
 }
 
+std::vector<uint32_t>
+FindNonManifoldVertices(const std::vector<std::array<uint32_t, 3>> & triangles)
+{
+  std::vector<uint32_t> vertices = VertexLinks(triangles).NonManifoldVertices();
+  for (const auto & entry : CountTrianglesPerEdge(triangles))
+  {
+    if (entry.second != 2)
+    {
+      vertices.push_back(entry.first.first);
+      vertices.push_back(entry.first.second);
+    }
+  }
+  std::sort(vertices.begin(), vertices.end());
+  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+  return vertices;
+}
+
 SurfaceTopology
 ComputeBoundaryTopology(const TetrahedralMesh & mesh)
 {
   return ComputeSurfaceTopology(mesh.points, mesh.boundaryTriangles);
 }
 
+std::vector<std::array<uint32_t, 3>>
+LabelBoundaryTriangles(const TetrahedralMesh & mesh, Label label)
+{
+  std::vector<Triangle> triangles;
+  for (std::size_t i = 0; i < mesh.boundaryTriangles.size() && i < mesh.boundaryTriangleLabels.size(); ++i)
+  {
+    if (mesh.boundaryTriangleLabels[i][0] == label || mesh.boundaryTriangleLabels[i][1] == label)
+    {
+      triangles.push_back(mesh.boundaryTriangles[i]);
+    }
+  }
+  return triangles;
+}
+
 SurfaceTopology
 ComputeLabelBoundaryTopology(const TetrahedralMesh & mesh, Label label)
 {
-  std::vector<bool> touchesLabel(mesh.boundaryTriangles.size(), false);
-  for (std::size_t i = 0; i < mesh.boundaryTriangles.size() && i < mesh.boundaryTriangleLabels.size(); ++i)
-  {
-    touchesLabel[i] = mesh.boundaryTriangleLabels[i][0] == label || mesh.boundaryTriangleLabels[i][1] == label;
-  }
-  return ComputeTopologyOfSelectedTriangles(mesh, touchesLabel);
+  return ComputeSurfaceTopology(mesh.points, LabelBoundaryTriangles(mesh, label));
 }
 
 ShortestEdgesByKind

@@ -26,8 +26,8 @@ import sys
 
 from DelaunayImageToMeshCommandLineTesting import PROGRAM_NAME, check, describe, run
 
-OPTIONS = ["--delta", "--radius-edge", "--min-dihedral", "--labels", "--iso", "--max-vertices", "--report", "--quiet",
-           "--version", "--help"]
+OPTIONS = ["--delta", "--radius-edge", "--min-dihedral", "--labels", "--merge-labels", "--iso", "--max-vertices",
+           "--report", "--quiet", "--version", "--help"]
 
 
 def error_cases(image, output):
@@ -48,7 +48,8 @@ def error_cases(image, output):
         ([image, mesh, "--labels", "1,x"], "--labels needs 'all' or comma-separated integer labels"),
         ([image, mesh, "--labels", "0,1"], "--labels cannot select label 0"),
         ([image, mesh, "--max-vertices", "-5"], "--max-vertices must be a whole number >= 8, got '-5'"),
-        ([image, mesh, "--iso", "1", "--labels", "1"], "--iso and --labels cannot be combined"),
+        ([image, mesh, "--iso", "1", "--labels", "1"], "--iso cannot be combined with --labels or --merge-labels"),
+        ([image, mesh, "--iso", "1", "--merge-labels"], "--iso cannot be combined with --labels or --merge-labels"),
         ([image, mesh, "--quiet=yes"], "option --quiet takes no value"),
         ([image], "missing OUTPUT"),
         ([image, mesh, "surplus"], "unexpected argument 'surplus'"),

@@ -1,0 +1,477 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkDelaunayImageToMeshFilterTestHelpers_h
+#define itkDelaunayImageToMeshFilterTestHelpers_h
+
+// What the filter's driver tests and GoogleTests share: test images, the conversion of the filter's ITK
+// outputs back to the core's mesh (so that every measure of DelaunayRefinementMeshQuality.h is taken on what
+// a user receives), a facet-by-facet check of the boundary against the tetrahedra, and the mesh invariants
+// that the regression baselines store. No GoogleTest here: the driver tests include it too.
+
+#include "DelaunayImageToMeshSurfaceExtraction.h"
+#include "DelaunayRefinementMeshQuality.h"
+#include "itkDefaultStaticMeshTraits.h"
+#include "itkImage.h"
+#include "itkImageRegionConstIteratorWithIndex.h"
+#include "itkImageRegionIteratorWithIndex.h"
+#include "itkMesh.h"
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace itk
+{
+namespace delaunay_image_to_mesh_test
+{
+
+namespace dr = delaunay_refinement;
+// The core's vector operators act on std::array, which argument-dependent lookup does not search them for.
+using dr::operator+;
+using dr::operator-;
+using dr::operator*;
+
+/** Double-precision points: the default itk::Mesh stores floats, which would blur the measured guarantees. */
+using MeshType = Mesh<int32_t, 3, DefaultStaticMeshTraits<int32_t, 3, 3, double, double, int32_t>>;
+using LabelImageType = Image<uint8_t, 3>;
+
+/** The directory of the real test images (Debian package insighttoolkit5-examples), set by FilterTests.cmake. */
+inline std::string
+ExamplesDataDirectory()
+{
+#ifdef DelaunayImageToMesh_EXAMPLES_DATA
+  return DelaunayImageToMesh_EXAMPLES_DATA "/";
+#else
+  return "/usr/share/doc/insighttoolkit5-examples/examples/Data/";
+#endif
+}
+
+/** An image whose voxels are 1 where their centre is within `radius` (mm) of `center` (physical), else 0. */
+inline LabelImageType::Pointer
+MakeBallImage(const LabelImageType::SizeType & size, const LabelImageType::SpacingType & spacing,
+              const LabelImageType::PointType & origin, const LabelImageType::DirectionType & direction,
+              const dr::Vector3 & center, double radius)
+{
+  auto image = LabelImageType::New();
+  image->SetRegions(size);
+  image->SetSpacing(spacing);
+  image->SetOrigin(origin);
+  image->SetDirection(direction);
+  image->Allocate();
+  for (ImageRegionIteratorWithIndex<LabelImageType> it(image, image->GetBufferedRegion()); !it.IsAtEnd(); ++it)
+  {
+    LabelImageType::PointType point;
+    image->TransformIndexToPhysicalPoint(it.GetIndex(), point);
+    it.Set(dr::Distance({ { point[0], point[1], point[2] } }, center) <= radius ? 1 : 0);
+  }
+  return image;
+}
+
+/** The physical position of a voxel centre as the core's vector. */
+template <typename TImage>
+dr::Vector3
+PhysicalCenterOf(const TImage & image, const typename TImage::IndexType & index)
+{
+  typename TImage::PointType point;
+  image.TransformIndexToPhysicalPoint(index, point);
+  return { { point[0], point[1], point[2] } };
+}
+
+/** The image's buffered voxels as a LabelVolume, each value mapped by `toLabel` (0 = background), in the same
+ * physical space: the origin moves to the region's first voxel so that a region index need not be zero. */
+template <typename TImage>
+dr::LabelVolume
+LabelVolumeOf(const TImage & image, const std::function<dr::Label(double)> & toLabel)
+{
+  const auto &    region = image.GetBufferedRegion();
+  dr::LabelVolume volume;
+  for (unsigned int axis = 0; axis < 3; ++axis)
+  {
+    volume.size[axis] = region.GetSize()[axis];
+    volume.spacing[axis] = image.GetSpacing()[axis];
+    for (unsigned int column = 0; column < 3; ++column)
+    {
+      volume.direction[axis][column] = image.GetDirection()[axis][column];
+    }
+  }
+  volume.origin = PhysicalCenterOf(image, region.GetIndex());
+  volume.labels.reserve(region.GetNumberOfPixels());
+  // The region iterator runs x fastest, then y, then z: the LabelVolume order.
+  for (ImageRegionConstIteratorWithIndex<TImage> it(&image, region); !it.IsAtEnd(); ++it)
+  {
+    volume.labels.push_back(toLabel(static_cast<double>(it.Get())));
+  }
+  return volume;
+}
+
+/** Maps every label in `tissues` to itself and everything else to background. */
+inline std::function<dr::Label(double)>
+KeepLabels(const std::vector<dr::Label> & tissues)
+{
+  const std::set<dr::Label> kept(tissues.begin(), tissues.end());
+  return [kept](double value) {
+    const auto label = static_cast<dr::Label>(value);
+    return kept.count(label) ? label : dr::BackgroundLabel;
+  };
+}
+
+/** Maps every non-zero value to 1. */
+inline dr::Label
+NonZeroToOne(double value)
+{
+  return value != 0.0 ? 1 : dr::BackgroundLabel;
+}
+
+/** A copy of `image` with every value mapped by `toLabel`. */
+template <typename TImage>
+LabelImageType::Pointer
+MapLabels(const TImage & image, const std::function<dr::Label(double)> & toLabel)
+{
+  auto mapped = LabelImageType::New();
+  mapped->CopyInformation(&image);
+  mapped->SetRegions(image.GetBufferedRegion());
+  mapped->Allocate();
+  ImageRegionConstIteratorWithIndex<TImage> from(&image, image.GetBufferedRegion());
+  for (ImageRegionIteratorWithIndex<LabelImageType> to(mapped, mapped->GetBufferedRegion()); !to.IsAtEnd();
+       ++to, ++from)
+  {
+    to.Set(static_cast<LabelImageType::PixelType>(toLabel(static_cast<double>(from.Get()))));
+  }
+  return mapped;
+}
+
+/** The filter's two outputs (tetrahedra with labels, interface triangles with GetInterfaceLabels()) as the
+ * core's mesh, with the point kinds of GetRefinedMesh() (the ITK mesh has no place for them). */
+template <typename TFilter>
+dr::TetrahedralMesh
+TetrahedralMeshFromOutputs(TFilter & filter)
+{
+  const auto *        tetrahedra = filter.GetOutput();
+  const auto *        interfaces = filter.GetInterfaceMesh();
+  dr::TetrahedralMesh mesh;
+  for (auto point = tetrahedra->GetPoints()->Begin(); point != tetrahedra->GetPoints()->End(); ++point)
+  {
+    mesh.points.push_back({ { point.Value()[0], point.Value()[1], point.Value()[2] } });
+  }
+  mesh.pointKinds = filter.GetRefinedMesh().pointKinds;
+  for (auto cell = tetrahedra->GetCells()->Begin(); cell != tetrahedra->GetCells()->End(); ++cell)
+  {
+    const auto * ids = cell.Value()->GetPointIds();
+    mesh.tetrahedra.push_back({ { static_cast<uint32_t>(ids[0]),
+                                  static_cast<uint32_t>(ids[1]),
+                                  static_cast<uint32_t>(ids[2]),
+                                  static_cast<uint32_t>(ids[3]) } });
+    typename TFilter::OutputMeshType::CellPixelType label{};
+    tetrahedra->GetCellData(cell.Index(), &label);
+    mesh.tetrahedronLabels.push_back(static_cast<dr::Label>(label));
+  }
+  for (auto cell = interfaces->GetCells()->Begin(); cell != interfaces->GetCells()->End(); ++cell)
+  {
+    const auto * ids = cell.Value()->GetPointIds();
+    mesh.boundaryTriangles.push_back(
+      { { static_cast<uint32_t>(ids[0]), static_cast<uint32_t>(ids[1]), static_cast<uint32_t>(ids[2]) } });
+  }
+  const auto & interfaceLabels = filter.GetInterfaceLabels();
+  mesh.boundaryTriangleLabels.assign(interfaceLabels.begin(), interfaceLabels.end());
+  return mesh;
+}
+
+/** The boundary the tetrahedra and their labels imply, compared with the mesh's boundary triangles. */
+struct BoundaryConsistency
+{
+  /** Facets between different labels (or on the hull of the mesh) that are not boundary triangles. */
+  std::size_t missingTriangles{ 0 };
+  /** Boundary triangles that are no such facet, or that appear twice. */
+  std::size_t extraTriangles{ 0 };
+  /** Boundary triangles whose label pair is not {label of its tetrahedron, label on the other side}. */
+  std::size_t wrongLabels{ 0 };
+  /** Boundary triangles whose normal does not point away from the tetrahedron carrying the first label. */
+  std::size_t wrongOrientation{ 0 };
+  /** Facets of more than two tetrahedra: the tetrahedra overlap. */
+  std::size_t overSharedFacets{ 0 };
+
+  bool
+  IsConsistent() const
+  {
+    return missingTriangles == 0 && extraTriangles == 0 && wrongLabels == 0 && wrongOrientation == 0 &&
+           overSharedFacets == 0;
+  }
+};
+
+using SortedTriangle = std::array<uint32_t, 3>;
+
+inline SortedTriangle
+Sorted(SortedTriangle triangle)
+{
+  std::sort(triangle.begin(), triangle.end());
+  return triangle;
+}
+
+/** A facet of a tetrahedron: its sorted vertices, the tetrahedron, and the tetrahedron's vertex off the facet. */
+struct FacetSide
+{
+  SortedTriangle facet;
+  std::size_t    tetrahedron;
+  uint32_t       apex;
+
+  bool
+  operator<(const FacetSide & other) const
+  {
+    return facet < other.facet;
+  }
+};
+
+/** Every facet of every tetrahedron, sorted so that the sides of a facet are adjacent. */
+inline std::vector<FacetSide>
+SortedFacetSides(const dr::TetrahedralMesh & mesh)
+{
+  std::vector<FacetSide> sides;
+  sides.reserve(4 * mesh.tetrahedra.size());
+  for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
+  {
+    const auto & v = mesh.tetrahedra[t];
+    for (int apex = 0; apex < 4; ++apex)
+    {
+      sides.push_back({ Sorted({ { v[(apex + 1) % 4], v[(apex + 2) % 4], v[(apex + 3) % 4] } }), t, v[apex] });
+    }
+  }
+  std::sort(sides.begin(), sides.end());
+  return sides;
+}
+
+/** TetrahedralMesh's promise: every facet between different labels, once, oriented away from its first label;
+ * a tissue/background facet has the tissue first, a tissue/tissue facet the smaller label first. */
+inline BoundaryConsistency
+CheckBoundaryAgainstTetrahedra(const dr::TetrahedralMesh & mesh)
+{
+  const std::vector<FacetSide> sides = SortedFacetSides(mesh);
+  BoundaryConsistency          consistency;
+  /** For each facet between different labels: the label pair, and the side that carries the first label. */
+  std::map<SortedTriangle, std::pair<std::array<dr::Label, 2>, const FacetSide *>> expected;
+  for (std::size_t first = 0; first < sides.size();)
+  {
+    std::size_t end = first + 1;
+    while (end < sides.size() && sides[end].facet == sides[first].facet)
+    {
+      ++end;
+    }
+    if (end - first > 2)
+    {
+      ++consistency.overSharedFacets;
+    }
+    else
+    {
+      const FacetSide & one = sides[first];
+      const dr::Label   label = mesh.tetrahedronLabels[one.tetrahedron];
+      const dr::Label   other =
+        end - first == 2 ? mesh.tetrahedronLabels[sides[first + 1].tetrahedron] : dr::BackgroundLabel;
+      if (label != other)
+      {
+        const bool        oneFirst = other == dr::BackgroundLabel || label < other;
+        const FacetSide & inner = oneFirst ? one : sides[first + 1];
+        expected[one.facet] = { { { mesh.tetrahedronLabels[inner.tetrahedron], oneFirst ? other : label } }, &inner };
+      }
+    }
+    first = end;
+  }
+  std::set<SortedTriangle> seen;
+  for (std::size_t i = 0; i < mesh.boundaryTriangles.size(); ++i)
+  {
+    const SortedTriangle key = Sorted(mesh.boundaryTriangles[i]);
+    const auto           found = expected.find(key);
+    if (found == expected.end() || !seen.insert(key).second)
+    {
+      ++consistency.extraTriangles;
+      continue;
+    }
+    if (mesh.boundaryTriangleLabels[i] != found->second.first)
+    {
+      ++consistency.wrongLabels;
+      continue;
+    }
+    // The normal must point away from the tetrahedron with the first label: its apex lies behind the triangle.
+    const auto &        triangle = mesh.boundaryTriangles[i];
+    const dr::Vector3 & p0 = mesh.points[triangle[0]];
+    const dr::Vector3   normal = dr::Cross(mesh.points[triangle[1]] - p0, mesh.points[triangle[2]] - p0);
+    if (!(dr::Dot(normal, mesh.points[found->second.second->apex] - p0) < 0.0))
+    {
+      ++consistency.wrongOrientation;
+    }
+  }
+  consistency.missingTriangles = expected.size() - seen.size();
+  return consistency;
+}
+
+/** The triangles of the boundary whose label pair passes `keep`. */
+inline std::vector<std::array<uint32_t, 3>>
+BoundaryTrianglesWhere(const dr::TetrahedralMesh &                                   mesh,
+                       const std::function<bool(const std::array<dr::Label, 2> &)> & keep)
+{
+  std::vector<std::array<uint32_t, 3>> triangles;
+  for (std::size_t i = 0; i < mesh.boundaryTriangles.size(); ++i)
+  {
+    if (keep(mesh.boundaryTriangleLabels[i]))
+    {
+      triangles.push_back(mesh.boundaryTriangles[i]);
+    }
+  }
+  return triangles;
+}
+
+/** Largest circumradius of the boundary triangles. Each lies in its surface ball, whose radius R3 keeps below δ. */
+inline double
+LargestBoundaryCircumradius(const dr::TetrahedralMesh & mesh)
+{
+  double largest = 0.0;
+  for (const auto & triangle : mesh.boundaryTriangles)
+  {
+    const dr::Vector3 & a = mesh.points[triangle[0]];
+    const dr::Vector3 & b = mesh.points[triangle[1]];
+    const dr::Vector3 & c = mesh.points[triangle[2]];
+    const double        twiceArea = dr::Norm(dr::Cross(b - a, c - a));
+    largest = std::max(largest, dr::Distance(a, b) * dr::Distance(b, c) * dr::Distance(c, a) / (2.0 * twiceArea));
+  }
+  return largest;
+}
+
+/** Volume-weighted centroid of the tetrahedra. */
+inline dr::Vector3
+CentroidOf(const dr::TetrahedralMesh & mesh)
+{
+  dr::Vector3 weighted{ { 0.0, 0.0, 0.0 } };
+  double      volume = 0.0;
+  for (const auto & t : mesh.tetrahedra)
+  {
+    const dr::Vector3 & p0 = mesh.points[t[0]];
+    const double v = dr::Dot(mesh.points[t[1]] - p0, dr::Cross(mesh.points[t[2]] - p0, mesh.points[t[3]] - p0)) / 6.0;
+    weighted = weighted + (v / 4.0) * (p0 + mesh.points[t[1]] + mesh.points[t[2]] + mesh.points[t[3]]);
+    volume += v;
+  }
+  return (1.0 / volume) * weighted;
+}
+
+/** What the regression baselines store of a mesh: sizes, and the topology of each tissue's boundary. */
+struct MeshInvariants
+{
+  std::size_t tetrahedra{ 0 };
+  std::size_t boundaryTriangles{ 0 };
+  struct Tissue
+  {
+    std::size_t tetrahedra{ 0 };
+    int         components{ 0 };
+    int         genus{ 0 };
+  };
+  std::map<dr::Label, Tissue> tissues;
+};
+
+inline MeshInvariants
+InvariantsOf(const dr::TetrahedralMesh & mesh)
+{
+  MeshInvariants invariants;
+  invariants.tetrahedra = mesh.tetrahedra.size();
+  invariants.boundaryTriangles = mesh.boundaryTriangles.size();
+  for (const dr::Label label : mesh.tetrahedronLabels)
+  {
+    ++invariants.tissues[label].tetrahedra;
+  }
+  for (auto & entry : invariants.tissues)
+  {
+    const dr::SurfaceTopology topology = dr::ComputeLabelBoundaryTopology(mesh, entry.first);
+    entry.second.components = topology.numberOfComponents;
+    entry.second.genus = topology.totalGenus;
+  }
+  return invariants;
+}
+
+/** One `key value...` line per invariant; lines starting with '#' are comments. */
+inline void
+WriteInvariants(const MeshInvariants & invariants, const std::string & comment, const std::string & fileName)
+{
+  std::ofstream file(fileName);
+  file << "# " << comment << "\n";
+  file << "# Compared by itkDelaunayImageToMeshFilterRealImageTest: counts within +-10 %; unless countsOnly,\n"
+       << "# components and genus exactly.\n";
+  file << "tetrahedra " << invariants.tetrahedra << "\n";
+  file << "boundaryTriangles " << invariants.boundaryTriangles << "\n";
+  for (const auto & entry : invariants.tissues)
+  {
+    file << "tissue " << entry.first << " tetrahedra " << entry.second.tetrahedra << " components "
+         << entry.second.components << " genus " << entry.second.genus << "\n";
+  }
+  if (!file)
+  {
+    throw std::runtime_error("cannot write " + fileName);
+  }
+}
+
+inline MeshInvariants
+ReadInvariants(const std::string & fileName)
+{
+  std::ifstream file(fileName);
+  if (!file)
+  {
+    throw std::runtime_error("cannot read " + fileName);
+  }
+  MeshInvariants invariants;
+  std::string    line;
+  while (std::getline(file, line))
+  {
+    std::istringstream words(line);
+    std::string        key;
+    if (!(words >> key) || key[0] == '#')
+    {
+      continue;
+    }
+    bool parsed = false;
+    if (key == "tetrahedra")
+    {
+      parsed = static_cast<bool>(words >> invariants.tetrahedra);
+    }
+    else if (key == "boundaryTriangles")
+    {
+      parsed = static_cast<bool>(words >> invariants.boundaryTriangles);
+    }
+    else if (key == "tissue")
+    {
+      dr::Label              label = 0;
+      MeshInvariants::Tissue tissue;
+      std::string            tetrahedraKey, componentsKey, genusKey;
+      parsed = static_cast<bool>(words >> label >> tetrahedraKey >> tissue.tetrahedra >> componentsKey >>
+                                 tissue.components >> genusKey >> tissue.genus);
+      invariants.tissues[label] = tissue;
+    }
+    if (!parsed)
+    {
+      throw std::runtime_error("cannot parse the line '" + line + "' of " + fileName);
+    }
+  }
+  return invariants;
+}
+
+} // namespace delaunay_image_to_mesh_test
+} // namespace itk
+
+#endif
