@@ -85,5 +85,8 @@ install_build_packages
 fetch_itk_source
 configure_and_build
 restore_numpy_bool
+# Marks a finished build: the test command only uses a cache that has one (a build in progress has the
+# Python package directories already).
+touch "$cache/build-complete"
 run_python_tests
 echo "== ITK Python build and tests done in $(( $(date +%s) - start )) s (cache: $cache)"

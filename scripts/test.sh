@@ -12,9 +12,9 @@ ctest --test-dir "$build_directory" --output-on-failure -j"$(nproc)" --timeout 1
 # ITK's Python wrapping of the module needs a wrapped ITK, which Debian does not ship: it is built (about an
 # hour) by scripts/build-itk-python.sh and cached. Run its Python tests when that cache exists.
 itk_python_cache=${DELAUNAY_ITK_PYTHON_CACHE:-$HOME/.cache/delaunay-image-to-mesh/itk-python}
-if [ -d "$itk_python_cache/build/Wrapping/Generators/Python/itk" ]; then
+if [ -f "$itk_python_cache/build-complete" ]; then
   echo "== Running the Python tests against the ITK Python build in $itk_python_cache"
   bash "$repository/scripts/build-itk-python.sh"
 else
-  echo "== Skipping the Python tests: no ITK Python build at $itk_python_cache (make one with scripts/build-itk-python.sh, about an hour)"
+  echo "== Skipping the Python tests: no finished ITK Python build at $itk_python_cache (make one with scripts/build-itk-python.sh, about an hour)"
 fi
