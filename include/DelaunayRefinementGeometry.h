@@ -56,24 +56,26 @@ SignedVolume(const std::array<Vector3, 4> & corners)
   return Dot(corners[1] - corners[0], Cross(corners[2] - corners[0], corners[3] - corners[0])) / 6.0;
 }
 
+/** A normal (not unit) of the face opposite corner `face`, pointing away from that corner. */
+inline Vector3
+OutwardFaceNormal(const std::array<Vector3, 4> & corners, int face)
+{
+  const Vector3 & a = corners[(face + 1) & 3];
+  const Vector3 & b = corners[(face + 2) & 3];
+  const Vector3 & c = corners[(face + 3) & 3];
+  const Vector3   normal = Cross(b - a, c - a);
+  return Dot(normal, corners[face] - a) > 0.0 ? -1.0 * normal : normal;
+}
+
 /** The six interior dihedral angles, in degrees. The dihedral angle at edge (i, j) is the angle between the
  * two faces that share it, i.e. 180° minus the angle between their outward normals. */
 inline std::array<double, 6>
 DihedralAngles(const std::array<Vector3, 4> & corners)
 {
-  // Outward normal of the face opposite vertex k.
   std::array<Vector3, 4> normals;
   for (int k = 0; k < 4; ++k)
   {
-    const Vector3 & a = corners[(k + 1) & 3];
-    const Vector3 & b = corners[(k + 2) & 3];
-    const Vector3 & c = corners[(k + 3) & 3];
-    Vector3         normal = Cross(b - a, c - a);
-    if (Dot(normal, corners[k] - a) > 0.0)
-    {
-      normal = -1.0 * normal;
-    }
-    normals[k] = normal;
+    normals[k] = OutwardFaceNormal(corners, k);
   }
   std::array<double, 6> angles{};
   int                   next = 0;

@@ -537,16 +537,8 @@ private:
   Vector3
   FarEndOfVoronoiRay(CellHandle cell, int facet) const
   {
-    const std::array<Vector3, 4> corners = CornersOf(cell);
-    const Vector3 &              a = corners[(facet + 1) & 3];
-    const Vector3 &              b = corners[(facet + 2) & 3];
-    const Vector3 &              c = corners[(facet + 3) & 3];
-    Vector3                      normal = Cross(b - a, c - a);
-    if (Dot(normal, corners[facet] - a) > 0.0)
-    {
-      normal = -1.0 * normal;
-    }
-    const double boxDiagonal = Distance(m_Box.lower, m_Box.upper);
+    const Vector3 normal = OutwardFaceNormal(CornersOf(cell), facet);
+    const double  boxDiagonal = Distance(m_Box.lower, m_Box.upper);
     return cell->cache.circumcenter + (2.0 * boxDiagonal / Norm(normal)) * normal;
   }
 

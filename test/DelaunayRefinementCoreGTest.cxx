@@ -443,7 +443,8 @@ ExpectFaithfulBoundary(const MeshedShape & meshed, const AnalyticOracle & oracle
   if (parameters.radiusEdgeBound >= 2.0 && !UsesSliverRule(parameters) &&
       meshed.statistics.manifoldRefinementZones == 0)
   {
-    // Lemma 5 (which needs a uniform δ): with ρ >= 2 every restricted facet, hence every boundary triangle, has only feature vertices.
+    // Lemma 5 (which needs a uniform δ): with ρ >= 2 every restricted facet, hence every boundary triangle, has only
+    // feature vertices.
     std::size_t nonFeatureCorners = 0;
     for (const auto & triangle : meshed.mesh.boundaryTriangles)
     {
