@@ -1,0 +1,498 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+
+// delaunay-bench: itk::DelaunayImageToMeshFilter against CGAL's Mesh_3 on the same images, at matched surface
+// fidelity, with every quality measure computed by the module's own code for both (issue #6, bench/README.md).
+
+#include "DelaunayBenchChildProcess.h"
+#include "DelaunayBenchImages.h"
+#include "DelaunayBenchMeshers.h"
+#include "DelaunayImageToMeshQualityReport.h"
+
+#include "itkMultiThreaderBase.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <iostream>
+#include <limits>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace
+{
+
+using namespace delaunay_bench;
+namespace dr = delaunay_refinement;
+
+/** CGAL's facet_size bounds the radius of surface Delaunay balls, which is exactly what our rule R3 bounds by δ. */
+constexpr double FacetSizePerDelta = 1.0;
+/** Our rules bound no interior size (only the radius-edge ratio, which grades the mesh); CGAL's cell_size is
+ * set loose enough not to bind before its radius-edge criterion does on these images (bench/README.md). */
+constexpr double CellSizePerDelta = 8.0;
+/** Fidelity counts as matched when CGAL's mean two-sided distance is within this fraction of ours. */
+constexpr double FidelityTolerance = 0.1;
+constexpr int    MaximumFacetDistanceTrials = 8;
+
+const char * const DefaultDataDirectory = "/usr/share/doc/insighttoolkit5-examples/examples/Data";
+
+struct Options
+{
+  bool quick{ false };
+  bool oursOnly{ false };
+  /** 0 = the default: 3, or 1 with --quick. */
+  int                      runs{ 0 };
+  std::vector<std::string> imageNames;
+  std::string              dataDirectory{ DefaultDataDirectory };
+};
+
+void
+PrintUsage()
+{
+  std::cerr << "usage: delaunay-bench [--quick] [--runs N] [--images NAME[,NAME...]] [--ours-only] [--data-dir DIR]\n"
+               "  --quick      a short run: the small and the 2-3 mm images, one delta each, one run\n"
+               "  --runs N     timed runs per mesher, the median is reported (default 3; 1 with --quick)\n"
+               "  --images     only these images (sphere-64, torus-64, sphere-128, torus-128, brain-mask,\n"
+               "               kmeans-tissues, brain-mask-1mm)\n"
+               "  --ours-only  run our filter only (for profiling)\n"
+               "  --data-dir   where ITK's example images are (default "
+            << DefaultDataDirectory << ")\n";
+}
+
+std::vector<std::string>
+SplitAtCommas(const std::string & text)
+{
+  std::vector<std::string> parts;
+  std::istringstream       stream(text);
+  for (std::string part; std::getline(stream, part, ',');)
+  {
+    parts.push_back(part);
+  }
+  return parts;
+}
+
+std::optional<Options>
+ParseOptions(int argc, char * argv[])
+{
+  Options options;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string argument = argv[i];
+    const bool        hasValue = i + 1 < argc;
+    if (argument == "--quick")
+    {
+      options.quick = true;
+    }
+    else if (argument == "--ours-only")
+    {
+      options.oursOnly = true;
+    }
+    else if (argument == "--runs" && hasValue)
+    {
+      options.runs = std::atoi(argv[++i]);
+    }
+    else if (argument == "--images" && hasValue)
+    {
+      options.imageNames = SplitAtCommas(argv[++i]);
+    }
+    else if (argument == "--data-dir" && hasValue)
+    {
+      options.dataDirectory = argv[++i];
+    }
+    else
+    {
+      return std::nullopt;
+    }
+  }
+  if (options.runs == 0)
+  {
+    options.runs = options.quick ? 1 : 3;
+  }
+  if (options.runs < 1)
+  {
+    return std::nullopt;
+  }
+  return options;
+}
+
+double
+Median(std::vector<double> values)
+{
+  std::sort(values.begin(), values.end());
+  const std::size_t middle = values.size() / 2;
+  return values.size() % 2 == 1 ? values[middle] : 0.5 * (values[middle - 1] + values[middle]);
+}
+
+/** One mesher on one image and δ: medians over the runs, and the (deterministic) mesh's quality. */
+struct MesherRow
+{
+  std::string         mesher;
+  double              totalSeconds{ 0.0 };
+  double              totalCpuSeconds{ 0.0 };
+  double              refinementSeconds{ 0.0 };
+  double              refinementCpuSeconds{ 0.0 };
+  double              memoryBytes{ 0.0 };
+  dr::QualityReport   quality;
+  dr::TetrahedralMesh mesh;
+};
+
+MesherRow
+MeasureMesher(const std::string & mesher, int runs, const std::function<MesherOutput()> & run,
+              const dr::LabelVolume & volume)
+{
+  std::vector<double> totalSeconds;
+  std::vector<double> totalCpuSeconds;
+  std::vector<double> refinementSeconds;
+  std::vector<double> refinementCpuSeconds;
+  std::vector<double> memoryBytes;
+  MesherRow           row;
+  row.mesher = mesher;
+  for (int i = 0; i < runs; ++i)
+  {
+    MeasuredRun measured = RunInChildProcess(run);
+    totalSeconds.push_back(measured.output.totalSeconds);
+    totalCpuSeconds.push_back(measured.output.totalCpuSeconds);
+    refinementSeconds.push_back(measured.output.refinementSeconds);
+    refinementCpuSeconds.push_back(measured.output.refinementCpuSeconds);
+    memoryBytes.push_back(static_cast<double>(measured.meshingMemoryBytes));
+    row.mesh = std::move(measured.output.mesh);
+  }
+  row.totalSeconds = Median(totalSeconds);
+  row.totalCpuSeconds = Median(totalCpuSeconds);
+  row.refinementSeconds = Median(refinementSeconds);
+  row.refinementCpuSeconds = Median(refinementCpuSeconds);
+  row.memoryBytes = Median(memoryBytes);
+  row.quality = dr::ComputeQualityReport(row.mesh, volume);
+  std::cerr << "  " << mesher << ": " << row.totalSeconds << " s, " << row.mesh.tetrahedra.size() << " tetrahedra\n";
+  return row;
+}
+
+/** ComputeQualityReport()'s mean distance to the marching-cubes surface, with that surface computed once. */
+double
+MeanTwoSidedDistance(const dr::TetrahedralMesh & mesh, const dr::TriangleSurface & marchingCubes, double sampleSpacing)
+{
+  return dr::ComputeTwoSidedDistance(
+           mesh.points, mesh.boundaryTriangles, marchingCubes.points, marchingCubes.triangles, sampleSpacing)
+    .combined.mean;
+}
+
+/** The facet_distance that gives CGAL our mean distance to the marching-cubes surface, and whether it does. */
+struct FacetDistanceMatch
+{
+  /** 0 = CGAL's facet_distance criterion off. */
+  double facetDistance{ 0.0 };
+  double cgalMeanDistance{ 0.0 };
+  bool   matched{ false };
+  int    trials{ 0 };
+};
+
+bool
+IsWithinTolerance(double value, double target)
+{
+  return std::abs(value - target) <= FidelityTolerance * target;
+}
+
+/** facet_distance off first: it is CGAL's loosest surface, and if even that is closer than ours nothing can
+ * match. Then the bound is halved from δ/2 until CGAL is closer than we are, and the last bracket bisected in
+ * log scale: CGAL's mean distance grows with the bound, and tight bounds are the expensive trials, so the search
+ * comes from the loose side. */
+FacetDistanceMatch
+MatchFacetDistance(const LabelImage & image, double delta, const dr::QualityReport & ours,
+                   const dr::TriangleSurface & marchingCubes)
+{
+  const double       targetMean = ours.distanceToMarchingCubes.mean;
+  FacetDistanceMatch best;
+  double             bestError = std::numeric_limits<double>::infinity();
+  const auto         trial = [&](double facetDistance) {
+    const CgalCriteria criteria{ FacetSizePerDelta * delta, facetDistance, CellSizePerDelta * delta, false };
+    const MeasuredRun  run = RunInChildProcess([&] { return RunCgalMesh3(image, criteria); });
+    const double       mean = MeanTwoSidedDistance(run.output.mesh, marchingCubes, ours.distanceSampleSpacing);
+    std::cerr << "    facet_distance " << facetDistance << " mm: mean distance " << mean << " mm (ours " << targetMean
+              << ")\n";
+    ++best.trials;
+    if (std::abs(mean - targetMean) < bestError)
+    {
+      bestError = std::abs(mean - targetMean);
+      best.facetDistance = facetDistance;
+      best.cgalMeanDistance = mean;
+      best.matched = IsWithinTolerance(mean, targetMean);
+    }
+    return mean;
+  };
+  if (trial(0.0) <= targetMean || best.matched)
+  {
+    return best;
+  }
+  double loose = delta;
+  double tight = 0.5 * delta;
+  while (!best.matched && best.trials < MaximumFacetDistanceTrials && trial(tight) > targetMean)
+  {
+    loose = tight;
+    tight *= 0.5;
+  }
+  while (!best.matched && best.trials < MaximumFacetDistanceTrials)
+  {
+    const double middle = std::sqrt(tight * loose);
+    (trial(middle) > targetMean ? loose : tight) = middle;
+  }
+  return best;
+}
+
+/** Everything measured for one image and δ. */
+struct BenchCase
+{
+  std::string        image;
+  double             delta{ 0.0 };
+  MesherRow          ours;
+  MesherRow          cgal;
+  MesherRow          cgalOptimized;
+  FacetDistanceMatch match;
+  double             floorSeconds{ 0.0 };
+};
+
+double
+MedianBulkDelaunaySeconds(const std::vector<dr::Vector3> & points, int runs)
+{
+  std::vector<double> seconds;
+  for (int i = 0; i < runs; ++i)
+  {
+    seconds.push_back(BulkDelaunaySeconds(points));
+  }
+  return Median(seconds);
+}
+
+BenchCase
+RunCase(const BenchImage & benchImage, double delta, const Options & options, const dr::LabelVolume & volume,
+        const dr::TriangleSurface & marchingCubes)
+{
+  std::cerr << benchImage.name << ", delta " << delta << " mm\n";
+  const LabelImage & image = *benchImage.image;
+  BenchCase          result;
+  result.image = benchImage.name;
+  result.delta = delta;
+  result.ours = MeasureMesher(
+    "ours", options.runs, [&] { return RunOurFilter(image, delta); }, volume);
+  if (options.oursOnly)
+  {
+    return result;
+  }
+  result.match = MatchFacetDistance(image, delta, result.ours.quality, marchingCubes);
+  CgalCriteria criteria{ FacetSizePerDelta * delta, result.match.facetDistance, CellSizePerDelta * delta, false };
+  result.cgal = MeasureMesher(
+    "CGAL", options.runs, [&] { return RunCgalMesh3(image, criteria); }, volume);
+  criteria.optimize = true;
+  result.cgalOptimized = MeasureMesher(
+    "CGAL+opt", options.runs, [&] { return RunCgalMesh3(image, criteria); }, volume);
+  result.floorSeconds = MedianBulkDelaunaySeconds(result.ours.mesh.points, options.runs);
+  return result;
+}
+
+// ---- The table ----------------------------------------------------------------------------------------------
+
+std::string
+Format(double value, int decimals)
+{
+  char text[64];
+  std::snprintf(text, sizeof(text), "%.*f", decimals, value);
+  return text;
+}
+
+std::string
+Megabytes(double bytes)
+{
+  return Format(bytes / (1024.0 * 1024.0), 1);
+}
+
+std::string
+QualityColumns(const MesherRow & row)
+{
+  const dr::QualityReport & q = row.quality;
+  const auto &              d = q.distanceToMarchingCubes;
+  return std::to_string(q.vertices) + " | " + std::to_string(q.tetrahedra) + " | " + Megabytes(row.memoryBytes) +
+         " | " + Format(q.maximumRadiusEdgeRatio, 3) + " | " + Format(q.minimumDihedralAngle, 2) + " | " +
+         Format(q.minimumBoundaryPlanarAngle, 2) + " | " + std::to_string(q.nonManifoldEdges) + " | " +
+         Format(d.mean, 3) + " / " + Format(d.percentile95, 3) + " / " + Format(d.maximum, 3);
+}
+
+void
+PrintTableHeader()
+{
+  std::cout << "| image | δ mm | mesher | wall s | refine wall s | cpu s | refine cpu s | vertices | tets | peak MB | "
+               "max R/E | min dihedral ° | min bdry angle ° | NM edges | dist mean / p95 / max mm | ours/CGAL time: "
+               "refine wall; total wall; refine cpu; total cpu | ours/CGAL mem |\n"
+               "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+}
+
+std::string
+Ratio(double numerator, double denominator)
+{
+  return Format(numerator / denominator, 2);
+}
+
+std::string
+TimeColumns(const MesherRow & row, bool hasRefinementSplit)
+{
+  return Format(row.totalSeconds, 3) + " | " + (hasRefinementSplit ? Format(row.refinementSeconds, 3) : "") + " | " +
+         Format(row.totalCpuSeconds, 3) + " | " + (hasRefinementSplit ? Format(row.refinementCpuSeconds, 3) : "");
+}
+
+void
+PrintCase(const BenchCase & c, bool oursOnly)
+{
+  const std::string prefix = "| " + c.image + " | " + Format(c.delta, 1) + " | ";
+  std::string       ratios = " | | |";
+  if (!oursOnly)
+  {
+    ratios = " | " + Ratio(c.ours.refinementSeconds, c.cgal.totalSeconds) + "; " +
+             Ratio(c.ours.totalSeconds, c.cgal.totalSeconds) + "; " +
+             Ratio(c.ours.refinementCpuSeconds, c.cgal.totalCpuSeconds) + "; " +
+             Ratio(c.ours.totalCpuSeconds, c.cgal.totalCpuSeconds) + " | " +
+             Ratio(c.ours.memoryBytes, c.cgal.memoryBytes) + " |";
+  }
+  std::cout << prefix << "ours | " << TimeColumns(c.ours, true) << " | " << QualityColumns(c.ours) << ratios << "\n";
+  if (oursOnly)
+  {
+    return;
+  }
+  const std::string facetDistance =
+    c.match.facetDistance > 0.0 ? "fd " + Format(c.match.facetDistance, 3) : std::string("fd off");
+  std::cout << prefix << "CGAL (" << facetDistance << ") | " << TimeColumns(c.cgal, false) << " | "
+            << QualityColumns(c.cgal) << " | | |\n";
+  std::cout << prefix << "CGAL+perturb+exude | " << TimeColumns(c.cgalOptimized, false) << " | "
+            << QualityColumns(c.cgalOptimized) << " | | |\n";
+  std::cout << prefix << "floor: bulk DT of our vertices | " << Format(c.floorSeconds, 3) << " | | | | "
+            << c.ours.quality.vertices << " | | | | | | | | refine wall/floor "
+            << Ratio(c.ours.refinementSeconds, c.floorSeconds) << "; refine cpu/floor "
+            << Ratio(c.ours.refinementCpuSeconds, c.floorSeconds) << " | |\n";
+}
+
+std::string
+MatchDescription(const FacetDistanceMatch & match)
+{
+  if (match.matched)
+  {
+    return "yes";
+  }
+  return match.facetDistance > 0.0 ? "no: the closest of the trials" : "no: CGAL is closer even with the bound off";
+}
+
+void
+PrintFidelityMatches(const std::vector<BenchCase> & cases)
+{
+  std::cout << "\nfacet_distance per image and δ (CGAL's mean two-sided distance against ours, tolerance "
+            << 100.0 * FidelityTolerance << " %):\n\n"
+            << "| image | δ mm | facet_distance mm | our mean mm | CGAL mean mm | matched | trials |\n"
+            << "|---|---|---|---|---|---|---|\n";
+  for (const BenchCase & c : cases)
+  {
+    std::cout << "| " << c.image << " | " << Format(c.delta, 1) << " | "
+              << (c.match.facetDistance > 0.0 ? Format(c.match.facetDistance, 4) : std::string("off")) << " | "
+              << Format(c.ours.quality.distanceToMarchingCubes.mean, 3) << " | " << Format(c.match.cgalMeanDistance, 3)
+              << " | " << MatchDescription(c.match) << " | " << c.match.trials << " |\n";
+  }
+}
+
+bool
+IsSelected(const BenchImage & image, const Options & options)
+{
+  return options.imageNames.empty() ||
+         std::find(options.imageNames.begin(), options.imageNames.end(), image.name) != options.imageNames.end();
+}
+
+/** \throws std::invalid_argument for an --images name that is not in this run's list. */
+void
+RequireKnownImageNames(const std::vector<BenchImage> & images, const Options & options)
+{
+  for (const std::string & name : options.imageNames)
+  {
+    if (std::none_of(images.begin(), images.end(), [&](const BenchImage & image) { return image.name == name; }))
+    {
+      throw std::invalid_argument("--images: no image \"" + name + "\" in this run's list" +
+                                  (options.quick ? " (--quick leaves out the 128^3 shapes and brain-mask-1mm)" : ""));
+    }
+  }
+}
+
+int
+RunBenchmark(const Options & options)
+{
+  // Both meshers run on one thread: CGAL's sequential Mesh_3 against our filter with ITK's set-up unthreaded.
+  // The Platform threader keeps ITK from starting a thread pool, which a forked child would inherit dead.
+  itk::MultiThreaderBase::SetGlobalDefaultThreader(itk::MultiThreaderBase::ThreaderEnum::Platform);
+  itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(1);
+
+  const std::vector<BenchImage> images = MakeBenchImages(options.quick, options.dataDirectory);
+  RequireKnownImageNames(images, options);
+  std::vector<BenchCase> cases;
+  for (const BenchImage & benchImage : images)
+  {
+    if (!IsSelected(benchImage, options))
+    {
+      continue;
+    }
+    std::cerr << benchImage.name << ": " << benchImage.description << ", "
+              << benchImage.image->GetBufferedRegion().GetSize() << " voxels of " << benchImage.image->GetSpacing()
+              << " mm\n";
+    const dr::LabelVolume     volume = ToLabelVolume(*benchImage.image);
+    const dr::TriangleSurface marchingCubes = dr::ExtractLabelSurfaces(volume);
+    for (const double delta : benchImage.deltas)
+    {
+      cases.push_back(RunCase(benchImage, delta, options, volume, marchingCubes));
+    }
+  }
+  std::cout << "\nrho = 2, nearest-neighbour oracle; CGAL: facet_angle 30, facet_size " << FacetSizePerDelta
+            << " delta, cell_radius_edge_ratio 2, cell_size " << CellSizePerDelta << " delta, sequential; medians of "
+            << options.runs << " runs\n\n";
+  PrintTableHeader();
+  for (const BenchCase & c : cases)
+  {
+    PrintCase(c, options.oursOnly);
+  }
+  if (!options.oursOnly)
+  {
+    PrintFidelityMatches(cases);
+  }
+  return EXIT_SUCCESS;
+}
+
+} // namespace
+
+int
+main(int argc, char * argv[])
+{
+  const std::optional<Options> options = ParseOptions(argc, argv);
+  if (!options)
+  {
+    PrintUsage();
+    return EXIT_FAILURE;
+  }
+  try
+  {
+    return RunBenchmark(*options);
+  }
+  catch (const std::exception & error)
+  {
+    std::cerr << "delaunay-bench: " << error.what() << "\n";
+    return EXIT_FAILURE;
+  }
+}

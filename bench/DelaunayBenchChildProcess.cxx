@@ -1,0 +1,296 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "DelaunayBenchChildProcess.h"
+
+#include <malloc.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+
+namespace delaunay_bench
+{
+namespace
+{
+
+/** A /proc/self/status field in kB (e.g. "VmHWM:"), as bytes. */
+std::size_t
+StatusBytes(const std::string & field)
+{
+  std::ifstream status("/proc/self/status");
+  std::string   line;
+  while (std::getline(status, line))
+  {
+    if (line.compare(0, field.size(), field) == 0)
+    {
+      return 1024 * std::stoull(line.substr(field.size()));
+    }
+  }
+  throw std::runtime_error("/proc/self/status has no " + field + " line: peak memory cannot be measured");
+}
+
+void
+ResetPeakResidentBytes()
+{
+  std::ofstream clearReferences("/proc/self/clear_refs");
+  clearReferences << "5";
+  clearReferences.close();
+  if (!clearReferences)
+  {
+    throw std::runtime_error("cannot reset the peak resident memory through /proc/self/clear_refs");
+  }
+}
+
+// ---- The pipe's byte stream ---------------------------------------------------------------------------------
+
+enum class ChildStatus : uint8_t
+{
+  Succeeded = 0,
+  Failed = 1
+};
+
+class PipeWriter
+{
+public:
+  explicit PipeWriter(int descriptor)
+    : m_Descriptor(descriptor)
+  {}
+
+  void
+  Bytes(const void * data, std::size_t size)
+  {
+    const auto * next = static_cast<const char *>(data);
+    while (size > 0)
+    {
+      const ssize_t written = ::write(m_Descriptor, next, size);
+      if (written < 0 && errno == EINTR)
+      {
+        continue;
+      }
+      if (written <= 0)
+      {
+        // The parent is gone: nobody is left to report to.
+        ::_exit(3);
+      }
+      next += written;
+      size -= static_cast<std::size_t>(written);
+    }
+  }
+
+  template <typename T>
+  void
+  Value(const T & value)
+  {
+    Bytes(&value, sizeof(T));
+  }
+
+  template <typename T>
+  void
+  Vector(const std::vector<T> & values)
+  {
+    Value<uint64_t>(values.size());
+    Bytes(values.data(), values.size() * sizeof(T));
+  }
+
+private:
+  int m_Descriptor;
+};
+
+class ByteReader
+{
+public:
+  explicit ByteReader(const std::string & bytes)
+    : m_Bytes(bytes)
+  {}
+
+  void
+  Bytes(void * data, std::size_t size)
+  {
+    if (m_Position + size > m_Bytes.size())
+    {
+      throw std::runtime_error("the child process sent a truncated result");
+    }
+    std::memcpy(data, m_Bytes.data() + m_Position, size);
+    m_Position += size;
+  }
+
+  template <typename T>
+  T
+  Value()
+  {
+    T value;
+    Bytes(&value, sizeof(T));
+    return value;
+  }
+
+  template <typename T>
+  void
+  Vector(std::vector<T> & values)
+  {
+    values.resize(Value<uint64_t>());
+    Bytes(values.data(), values.size() * sizeof(T));
+  }
+
+  std::string
+  Rest() const
+  {
+    return m_Bytes.substr(m_Position);
+  }
+
+private:
+  const std::string & m_Bytes;
+  std::size_t         m_Position{ 0 };
+};
+
+void
+WriteRun(PipeWriter & pipe, const MeasuredRun & run)
+{
+  pipe.Value(ChildStatus::Succeeded);
+  pipe.Value(run.output.totalSeconds);
+  pipe.Value(run.output.totalCpuSeconds);
+  pipe.Value(run.output.refinementSeconds);
+  pipe.Value(run.output.refinementCpuSeconds);
+  pipe.Value<uint64_t>(run.output.peakResidentBytes);
+  pipe.Value<uint64_t>(run.meshingMemoryBytes);
+  const delaunay_refinement::TetrahedralMesh & mesh = run.output.mesh;
+  pipe.Vector(mesh.points);
+  pipe.Vector(mesh.pointKinds);
+  pipe.Vector(mesh.tetrahedra);
+  pipe.Vector(mesh.tetrahedronLabels);
+  pipe.Vector(mesh.boundaryTriangles);
+  pipe.Vector(mesh.boundaryTriangleLabels);
+}
+
+MeasuredRun
+ReadRun(const std::string & bytes)
+{
+  ByteReader reader(bytes);
+  if (reader.Value<ChildStatus>() != ChildStatus::Succeeded)
+  {
+    throw std::runtime_error("the mesher failed in its child process: " + reader.Rest());
+  }
+  MeasuredRun run;
+  run.output.totalSeconds = reader.Value<double>();
+  run.output.totalCpuSeconds = reader.Value<double>();
+  run.output.refinementSeconds = reader.Value<double>();
+  run.output.refinementCpuSeconds = reader.Value<double>();
+  run.output.peakResidentBytes = reader.Value<uint64_t>();
+  run.meshingMemoryBytes = reader.Value<uint64_t>();
+  delaunay_refinement::TetrahedralMesh & mesh = run.output.mesh;
+  reader.Vector(mesh.points);
+  reader.Vector(mesh.pointKinds);
+  reader.Vector(mesh.tetrahedra);
+  reader.Vector(mesh.tetrahedronLabels);
+  reader.Vector(mesh.boundaryTriangles);
+  reader.Vector(mesh.boundaryTriangleLabels);
+  return run;
+}
+
+// ---- The two sides of the fork ------------------------------------------------------------------------------
+
+[[noreturn]] void
+RunChild(const std::function<MesherOutput()> & mesher, int descriptor)
+{
+  PipeWriter pipe(descriptor);
+  try
+  {
+    // Free heap pages inherited from the parent would otherwise be reused without counting.
+    ::malloc_trim(0);
+    ResetPeakResidentBytes();
+    const std::size_t startBytes = StatusBytes("VmRSS:");
+    MeasuredRun       run;
+    run.output = mesher();
+    run.meshingMemoryBytes = run.output.peakResidentBytes - std::min(startBytes, run.output.peakResidentBytes);
+    WriteRun(pipe, run);
+  }
+  catch (const std::exception & error)
+  {
+    pipe.Value(ChildStatus::Failed);
+    pipe.Bytes(error.what(), std::strlen(error.what()));
+  }
+  ::close(descriptor);
+  // _exit: the parent's stdio buffers and static destructors are the parent's business.
+  ::_exit(0);
+}
+
+std::string
+ReadAll(int descriptor)
+{
+  std::string bytes;
+  char        buffer[1 << 16];
+  for (;;)
+  {
+    const ssize_t count = ::read(descriptor, buffer, sizeof(buffer));
+    if (count < 0 && errno == EINTR)
+    {
+      continue;
+    }
+    if (count <= 0)
+    {
+      return bytes;
+    }
+    bytes.append(buffer, static_cast<std::size_t>(count));
+  }
+}
+
+} // namespace
+
+std::size_t
+PeakResidentBytes()
+{
+  return StatusBytes("VmHWM:");
+}
+
+MeasuredRun
+RunInChildProcess(const std::function<MesherOutput()> & mesher)
+{
+  int descriptors[2];
+  if (::pipe(descriptors) != 0)
+  {
+    throw std::runtime_error(std::string("pipe() failed: ") + std::strerror(errno));
+  }
+  std::fflush(nullptr);
+  const pid_t child = ::fork();
+  if (child < 0)
+  {
+    throw std::runtime_error(std::string("fork() failed: ") + std::strerror(errno));
+  }
+  if (child == 0)
+  {
+    ::close(descriptors[0]);
+    RunChild(mesher, descriptors[1]);
+  }
+  ::close(descriptors[1]);
+  const std::string bytes = ReadAll(descriptors[0]);
+  ::close(descriptors[0]);
+  int status = 0;
+  while (::waitpid(child, &status, 0) < 0 && errno == EINTR)
+  {}
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+  {
+    throw std::runtime_error("the mesher's child process died (wait status " + std::to_string(status) + ")");
+  }
+  return ReadRun(bytes);
+}
+
+} // namespace delaunay_bench
