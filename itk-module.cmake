@@ -1,14 +1,13 @@
-# the top-level README is used for describing this module, just
-# re-used it for documentation here
-get_filename_component(MY_CURRENT_DIR "${CMAKE_CURRENT_LIST_FILE}" PATH)
-file(READ "${MY_CURRENT_DIR}/README.md" DOCUMENTATION)
+# A short description: the README holds semicolons, which CMake would split into stray itk_module arguments.
+set(DOCUMENTATION "Delaunay refinement meshing of segmented 3-D images into labelled tetrahedral meshes \
+with guarantees: radius-edge ratio below 2, boundary triangle angles above 30 degrees, and a manifold \
+boundary within a chosen distance of the object's surface, on CGAL's 3-D Delaunay triangulation.")
 
 itk_module(DelaunayImageToMesh
   DEPENDS
     ITKCommon
     ITKMesh
     ITKImageFunction
-    ITKDistanceMap
   TEST_DEPENDS
     ITKTestKernel
     ITKIOImageBase

@@ -11,7 +11,6 @@ set(DelaunayImageToMesh_ITK_COMPONENTS
   ITKCommon
   ITKMesh
   ITKImageFunction
-  ITKDistanceMap
   ITKIOImageBase
   ITKIONIFTI
   ITKIONRRD

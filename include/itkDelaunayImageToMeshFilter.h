@@ -23,6 +23,7 @@
 #include "itkImage.h"
 #include "itkImageToMeshFilter.h"
 #include "itkInterpolateImageFunction.h"
+#include "itkMesh.h"
 
 #include <vector>
 
@@ -85,7 +86,7 @@ public:
   using ObjectLabelImageType = Image<LabelType, 3>;
 
   /** δ, the surface sampling distance in physical units (mm): smaller is finer and closer to the surface.
-   * 0 (the default) picks 4 × the largest voxel spacing. Valid: 0 or a finite value > 0. */
+   * 0 (the default) picks 4 × the largest voxel spacing. Valid: 0 or a value in (0, 1e30]. */
   itkSetMacro(SurfaceSamplingDistance, double);
   itkGetConstMacro(SurfaceSamplingDistance, double);
 

@@ -20,10 +20,11 @@
 
 #include "DelaunayRefinementOracle.h"
 
-#include "itkDanielssonDistanceMapImageFilter.h"
 #include "itkImage.h"
 #include "itkInterpolateImageFunction.h"
 
+#include <array>
+#include <utility>
 #include <vector>
 
 namespace itk
@@ -42,14 +43,18 @@ struct ImageLabelMapping
 };
 
 /** \class ImageLabelOracle
- * \brief The refinement's view of an image: labels from an ITK interpolator, closest surface points from a
- * Danielsson feature map of the label interfaces, snapped onto the interpolator's surface by bisection.
+ * \brief The refinement's view of an image: labels from an ITK interpolator, closest surface points from an
+ * exact Euclidean feature transform of the label interfaces, snapped onto the interpolator's surface.
  *
  * Labels: in label mode the interpolated value is rounded to a label and kept if it is selected (every
  * non-zero label when none is selected); in iso-value mode the label is 1 where the interpolated value is
  * >= the iso-value. Outside the image's buffered region every label is 0, so an object touching the border
  * is closed as if the image continued with background. All geometry is in physical space (spacing, origin
  * and direction of the image).
+ *
+ * With a nearest-neighbour interpolator the labels are those of the voxels: the oracle then reads them from its
+ * own label image, and the surface between two voxels of different labels is the face they share, so that
+ * surface points need no bisection.
  *
  * Not an itk::Object: it is the adaptor between an image and the ITK-free refinement core.
  *
@@ -66,10 +71,6 @@ public:
   using InterpolatorType = InterpolateImageFunction<InputImageType, double>;
   using LabelType = delaunay_refinement::Label;
   using LabelImageType = Image<LabelType, 3>;
-  using InterfaceImageType = Image<unsigned char, 3>;
-  using DistanceImageType = Image<float, 3>;
-  using FeatureMapFilterType = DanielssonDistanceMapImageFilter<InterfaceImageType, DistanceImageType>;
-  using FeatureOffsetImageType = typename FeatureMapFilterType::VectorImageType;
   using IndexType = typename LabelImageType::IndexType;
   using PointType = typename LabelImageType::PointType;
   using Vector3 = delaunay_refinement::Vector3;
@@ -110,20 +111,47 @@ private:
   void
   BuildLabelImage(const InputImageType * image);
   void
-  BuildFeatureMap();
+  BuildNearestInterfaceMap();
+  void
+  MarkInterfaceVoxels();
+  void
+  PropagateNearestInterfaceAlong(unsigned int axis);
+  double
+  SquaredDistanceAlongLowerAxes(const SizeValueType * coordinates, SizeValueType lowerOffset, unsigned int axis) const;
+  LabelType
+  VoxelLabelAt(const Vector3 & point) const;
+  using InterfaceVoxelCandidates = std::array<uint32_t, 8>;
+  InterfaceVoxelCandidates
+  InterfaceVoxelsAround(const ContinuousIndex<double, 3> & queryIndex) const;
+  /** A face between an interface voxel and its neighbour of another label: the surface crosses the segment
+   * between their centres. */
+  struct InterfaceFace
+  {
+    IndexType voxel;
+    IndexType neighbor;
+    /** From the query to the face's centre. */
+    double distance;
+  };
+  /** The interface face whose centre is nearest to `query`. */
+  InterfaceFace
+  NearestInterfaceFace(const Vector3 & query) const;
   Vector3
   CenterOf(const IndexType & index) const;
-  IndexType
-  NearestIndexInGrid(const Vector3 & point) const;
+  /** The centre of the face shared by two face-neighbour voxels. */
+  Vector3
+  FaceCenterOf(const IndexType & voxel, const IndexType & neighbor) const;
 
-  typename InputImageType::ConstPointer    m_Image;
-  typename InterpolatorType::ConstPointer  m_Interpolator;
-  ImageLabelMapping                        m_Mapping;
-  typename LabelImageType::Pointer         m_LabelImage;
-  typename FeatureOffsetImageType::Pointer m_FeatureOffsets;
-  delaunay_refinement::AxisAlignedBox      m_ObjectBounds;
-  SizeValueType                            m_NumberOfObjectVoxels{ 0 };
-  double                                   m_SurfaceTolerance{ 0.0 };
+  typename InputImageType::ConstPointer   m_Image;
+  typename InterpolatorType::ConstPointer m_Interpolator;
+  ImageLabelMapping                       m_Mapping;
+  /** Whether LabelAt() is the label of the nearest voxel (a nearest-neighbour interpolator). */
+  bool                             m_LabelsAreVoxelwise;
+  typename LabelImageType::Pointer m_LabelImage;
+  /** For each voxel of m_LabelImage (by buffer offset), the buffer offset of the nearest interface voxel. */
+  std::vector<uint32_t>               m_NearestInterfaceVoxel;
+  delaunay_refinement::AxisAlignedBox m_ObjectBounds;
+  SizeValueType                       m_NumberOfObjectVoxels{ 0 };
+  double                              m_SurfaceTolerance{ 0.0 };
 };
 
 } // namespace itk

@@ -21,9 +21,10 @@
 #include "itkImageLabelOracle.h"
 
 #include "itkImageRegionConstIteratorWithIndex.h"
-#include "itkImageRegionIteratorWithIndex.h"
+#include "itkNearestNeighborInterpolateImageFunction.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -36,6 +37,8 @@ ImageLabelOracle<TInputImage>::ImageLabelOracle(const InputImageType * image, co
   : m_Image(image)
   , m_Interpolator(interpolator)
   , m_Mapping(std::move(mapping))
+  , m_LabelsAreVoxelwise(
+      dynamic_cast<const NearestNeighborInterpolateImageFunction<InputImageType, double> *>(interpolator) != nullptr)
 {
   std::sort(m_Mapping.selectedLabels.begin(), m_Mapping.selectedLabels.end());
   const auto & spacing = image->GetSpacing();
@@ -43,7 +46,7 @@ ImageLabelOracle<TInputImage>::ImageLabelOracle(const InputImageType * image, co
   BuildLabelImage(image);
   if (m_NumberOfObjectVoxels > 0)
   {
-    BuildFeatureMap();
+    BuildNearestInterfaceMap();
   }
 }
 
@@ -125,52 +128,193 @@ ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
   }
 }
 
+/** Voxels with a face neighbour of another label, the voxels the surface passes next to, are their own nearest
+ * interface voxel. */
 template <typename TInputImage>
 void
-ImageLabelOracle<TInputImage>::BuildFeatureMap()
+ImageLabelOracle<TInputImage>::MarkInterfaceVoxels()
 {
-  auto interfaces = InterfaceImageType::New();
-  interfaces->CopyInformation(m_LabelImage);
-  interfaces->SetRegions(m_LabelImage->GetBufferedRegion());
-  interfaces->Allocate();
-  interfaces->FillBuffer(0);
-  const auto & region = m_LabelImage->GetBufferedRegion();
-  for (ImageRegionIteratorWithIndex<InterfaceImageType> it(interfaces, region); !it.IsAtEnd(); ++it)
+  const auto &        size = m_LabelImage->GetBufferedRegion().GetSize();
+  const LabelType *   labels = m_LabelImage->GetBufferPointer();
+  const SizeValueType strides[3] = { 1, size[0], size[0] * size[1] };
+  SizeValueType       offset = 0;
+  for (SizeValueType k = 0; k < size[2]; ++k)
   {
-    const IndexType index = it.GetIndex();
-    const LabelType label = m_LabelImage->GetPixel(index);
-    for (unsigned int axis = 0; axis < 3 && it.Get() == 0; ++axis)
+    for (SizeValueType j = 0; j < size[1]; ++j)
     {
-      for (const int step : { -1, 1 })
+      for (SizeValueType i = 0; i < size[0]; ++i, ++offset)
       {
-        IndexType neighbor = index;
-        neighbor[axis] += step;
-        if (region.IsInside(neighbor) && m_LabelImage->GetPixel(neighbor) != label)
+        const SizeValueType coordinates[3] = { i, j, k };
+        for (unsigned int axis = 0; axis < 3; ++axis)
         {
-          it.Set(1);
-          break;
+          const SizeValueType next = offset + strides[axis];
+          if (coordinates[axis] + 1 < size[axis] && labels[offset] != labels[next])
+          {
+            m_NearestInterfaceVoxel[offset] = static_cast<uint32_t>(offset);
+            m_NearestInterfaceVoxel[next] = static_cast<uint32_t>(next);
+          }
         }
       }
     }
   }
-  auto featureMap = FeatureMapFilterType::New();
-  featureMap->SetInput(interfaces);
-  featureMap->InputIsBinaryOn();
-  featureMap->UseImageSpacingOn();
-  featureMap->Update();
-  m_FeatureOffsets = featureMap->GetVectorDistanceMap();
+}
+
+/** Squared physical distance along the axes before `axis` from a voxel whose coordinates on those axes are
+ * `coordinates` to the voxel at `lowerOffset` within the same lower-axes block (the buffer offset minus the part
+ * due to `axis` and the axes after it). */
+template <typename TInputImage>
+double
+ImageLabelOracle<TInputImage>::SquaredDistanceAlongLowerAxes(const SizeValueType * coordinates,
+                                                             SizeValueType lowerOffset, unsigned int axis) const
+{
+  const auto & size = m_LabelImage->GetBufferedRegion().GetSize();
+  const auto & spacing = m_LabelImage->GetSpacing();
+  double       squaredDistance = 0.0;
+  for (unsigned int lower = 0; lower < axis; ++lower)
+  {
+    const double difference =
+      (static_cast<double>(coordinates[lower]) - static_cast<double>(lowerOffset % size[lower])) * spacing[lower];
+    squaredDistance += difference * difference;
+    lowerOffset /= size[lower];
+  }
+  return squaredDistance;
+}
+
+/** One pass of the separable exact Euclidean feature transform (Felzenszwalb and Huttenlocher's lower envelope of
+ * parabolas, each carrying its interface voxel): afterwards every voxel knows the nearest of the interface voxels
+ * that the earlier passes gave to the voxels of its line along `axis`. Those earlier passes moved interface voxels
+ * along the lower axes only, so a voxel and its interface voxel differ along the lower axes only. */
+template <typename TInputImage>
+void
+ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlong(unsigned int axis)
+{
+  constexpr uint32_t  none = std::numeric_limits<uint32_t>::max();
+  constexpr double    infinity = std::numeric_limits<double>::infinity();
+  const auto &        size = m_LabelImage->GetBufferedRegion().GetSize();
+  const double        step = m_LabelImage->GetSpacing()[axis];
+  const SizeValueType length = size[axis];
+  SizeValueType       stride = 1;
+  for (unsigned int lower = 0; lower < axis; ++lower)
+  {
+    stride *= size[lower];
+  }
+  std::vector<double>        height(length);
+  std::vector<uint32_t>      site(length);
+  std::vector<SizeValueType> parabola(length);
+  std::vector<double>        leftBoundary(length);
+  const auto                 intersection = [&](SizeValueType p, SizeValueType q) {
+    const double pPosition = static_cast<double>(p) * step;
+    const double qPosition = static_cast<double>(q) * step;
+    return (height[q] + qPosition * qPosition - height[p] - pPosition * pPosition) / (2.0 * (qPosition - pPosition));
+  };
+  const SizeValueType blocks = m_NearestInterfaceVoxel.size() / (stride * length);
+  for (SizeValueType block = 0; block < blocks; ++block)
+  {
+    for (SizeValueType lowerOffset = 0; lowerOffset < stride; ++lowerOffset)
+    {
+      const SizeValueType lineStart = block * stride * length + lowerOffset;
+      const SizeValueType lineCoordinates[2] = { lowerOffset % size[0], lowerOffset / size[0] };
+      for (SizeValueType t = 0; t < length; ++t)
+      {
+        const SizeValueType offset = lineStart + t * stride;
+        site[t] = m_NearestInterfaceVoxel[offset];
+        height[t] = site[t] == none
+                      ? infinity
+                      : SquaredDistanceAlongLowerAxes(lineCoordinates, site[t] - (offset - lowerOffset), axis);
+      }
+      SizeValueType parabolas = 0;
+      for (SizeValueType q = 0; q < length; ++q)
+      {
+        if (site[q] == none)
+        {
+          continue;
+        }
+        double boundary = -infinity;
+        while (parabolas > 0 && (boundary = intersection(parabola[parabolas - 1], q)) <= leftBoundary[parabolas - 1])
+        {
+          --parabolas;
+          boundary = -infinity;
+        }
+        parabola[parabolas] = q;
+        leftBoundary[parabolas] = boundary;
+        ++parabolas;
+      }
+      SizeValueType current = 0;
+      for (SizeValueType t = 0; t < length && parabolas > 0; ++t)
+      {
+        while (current + 1 < parabolas && leftBoundary[current + 1] < static_cast<double>(t) * step)
+        {
+          ++current;
+        }
+        m_NearestInterfaceVoxel[lineStart + t * stride] = site[parabola[current]];
+      }
+    }
+  }
+}
+
+template <typename TInputImage>
+void
+ImageLabelOracle<TInputImage>::BuildNearestInterfaceMap()
+{
+  const SizeValueType numberOfVoxels = m_LabelImage->GetBufferedRegion().GetNumberOfPixels();
+  if (numberOfVoxels >= std::numeric_limits<uint32_t>::max())
+  {
+    itkGenericExceptionMacro(<< "ImageLabelOracle: the padded image has " << numberOfVoxels
+                             << " voxels; at most 4294967294 are supported.");
+  }
+  m_NearestInterfaceVoxel.assign(numberOfVoxels, std::numeric_limits<uint32_t>::max());
+  MarkInterfaceVoxels();
+  for (unsigned int axis = 0; axis < 3; ++axis)
+  {
+    PropagateNearestInterfaceAlong(axis);
+  }
+}
+
+template <typename TInputImage>
+auto
+ImageLabelOracle<TInputImage>::VoxelLabelAt(const Vector3 & point) const -> LabelType
+{
+  // The same arithmetic as the nearest-neighbour interpolator's, on the padded label image (same geometry).
+  ContinuousIndex<double, 3> continuousIndex;
+  m_LabelImage->TransformPhysicalPointToContinuousIndex(PointType(point.data()), continuousIndex);
+  const auto & buffered = m_Image->GetBufferedRegion();
+  IndexType    index;
+  for (unsigned int axis = 0; axis < 3; ++axis)
+  {
+    const double first = static_cast<double>(buffered.GetIndex()[axis]) - 0.5;
+    const double end = first + static_cast<double>(buffered.GetSize()[axis]);
+    if (!(continuousIndex[axis] >= first && continuousIndex[axis] < end))
+    {
+      return delaunay_refinement::BackgroundLabel;
+    }
+    index[axis] = Math::RoundHalfIntegerUp<IndexValueType>(continuousIndex[axis]);
+  }
+  return m_LabelImage->GetPixel(index);
 }
 
 template <typename TInputImage>
 auto
 ImageLabelOracle<TInputImage>::LabelAt(const Vector3 & point) const -> LabelType
 {
-  const PointType physicalPoint(point.data());
-  if (!m_Interpolator->IsInsideBuffer(physicalPoint))
+  if (m_LabelsAreVoxelwise)
+  {
+    return VoxelLabelAt(point);
+  }
+  // ITK's IsInsideBuffer() admits continuous indices up to the largest double below the buffer's last half
+  // voxel, where ITK's rounding (2x + 0.5, rounded to even) can give the next index: on an axis whose last
+  // index is 0 (a one-slice image), 0.49999999999999994 rounds to 1 and an interpolator that reads the nearest
+  // voxel reads past the buffer. Bisection towards the border of the image converges on exactly such points,
+  // so the nearest voxel must be in the buffer too.
+  const PointType            physicalPoint(point.data());
+  ContinuousIndex<double, 3> continuousIndex;
+  m_Image->TransformPhysicalPointToContinuousIndex(physicalPoint, continuousIndex);
+  IndexType nearestIndex;
+  nearestIndex.CopyWithRound(continuousIndex);
+  if (!m_Interpolator->IsInsideBuffer(continuousIndex) || !m_Image->GetBufferedRegion().IsInside(nearestIndex))
   {
     return delaunay_refinement::BackgroundLabel;
   }
-  return MapValue(m_Interpolator->Evaluate(physicalPoint));
+  return MapValue(m_Interpolator->EvaluateAtContinuousIndex(continuousIndex));
 }
 
 template <typename TInputImage>
@@ -193,21 +337,101 @@ ImageLabelOracle<TInputImage>::CenterOf(const IndexType & index) const -> Vector
   return { point[0], point[1], point[2] };
 }
 
+/** The interface voxels nearest to the eight voxel centres around `query` (the feature transform is exact at
+ * voxel centres only, and on an anisotropic grid the face nearest to a point need not belong to the interface
+ * voxel nearest to its nearest centre). */
 template <typename TInputImage>
 auto
-ImageLabelOracle<TInputImage>::NearestIndexInGrid(const Vector3 & point) const -> IndexType
+ImageLabelOracle<TInputImage>::InterfaceVoxelsAround(const ContinuousIndex<double, 3> & queryIndex) const
+  -> InterfaceVoxelCandidates
 {
-  ContinuousIndex<double, 3> continuousIndex;
-  m_LabelImage->TransformPhysicalPointToContinuousIndex(PointType(point.data()), continuousIndex);
   const auto & region = m_LabelImage->GetBufferedRegion();
-  IndexType    index;
+  IndexType    lowerCorner;
+  IndexType    lastIndex;
   for (unsigned int axis = 0; axis < 3; ++axis)
   {
+    lastIndex[axis] = region.GetIndex()[axis] + static_cast<IndexValueType>(region.GetSize()[axis]) - 1;
     const double first = static_cast<double>(region.GetIndex()[axis]);
-    const double last = first + static_cast<double>(region.GetSize()[axis]) - 1.0;
-    index[axis] = static_cast<IndexValueType>(std::lround(std::clamp(continuousIndex[axis], first, last)));
+    lowerCorner[axis] = static_cast<IndexValueType>(
+      std::floor(std::clamp(queryIndex[axis], first, std::max(first, static_cast<double>(lastIndex[axis]) - 1.0))));
   }
-  return index;
+  InterfaceVoxelCandidates candidates{};
+  for (unsigned int corner = 0; corner < 8; ++corner)
+  {
+    IndexType index = lowerCorner;
+    for (unsigned int axis = 0; axis < 3; ++axis)
+    {
+      index[axis] = std::min(index[axis] + static_cast<IndexValueType>((corner >> axis) & 1), lastIndex[axis]);
+    }
+    candidates[corner] = m_NearestInterfaceVoxel[m_LabelImage->ComputeOffset(index)];
+  }
+  std::sort(candidates.begin(), candidates.end());
+  return candidates;
+}
+
+/** Of the faces between a candidate interface voxel and a face neighbour of another label, the one whose centre is
+ * nearest to `query`: its two voxels. Face centres, not the faces' closest points: they lie on the surface that
+ * marching cubes and CGAL's labelled-image domain see (half-way between voxel centres), where the corners of the
+ * voxels' staircase do not. */
+template <typename TInputImage>
+auto
+ImageLabelOracle<TInputImage>::NearestInterfaceFace(const Vector3 & query) const -> InterfaceFace
+{
+  ContinuousIndex<double, 3> queryIndex;
+  m_LabelImage->TransformPhysicalPointToContinuousIndex(PointType(query.data()), queryIndex);
+  const auto &             region = m_LabelImage->GetBufferedRegion();
+  const auto &             spacing = m_LabelImage->GetSpacing();
+  InterfaceVoxelCandidates candidates = InterfaceVoxelsAround(queryIndex);
+  const auto               candidatesEnd = std::unique(candidates.begin(), candidates.end());
+  InterfaceFace            nearest;
+  double                   nearestSquaredDistance = std::numeric_limits<double>::infinity();
+  for (auto candidate = candidates.begin(); candidate != candidatesEnd; ++candidate)
+  {
+    const IndexType voxel = m_LabelImage->ComputeIndex(*candidate);
+    const LabelType label = m_LabelImage->GetPixel(voxel);
+    for (unsigned int axis = 0; axis < 3; ++axis)
+    {
+      for (const int step : { -1, 1 })
+      {
+        IndexType neighbor = voxel;
+        neighbor[axis] += step;
+        if (!region.IsInside(neighbor) || m_LabelImage->GetPixel(neighbor) == label)
+        {
+          continue;
+        }
+        // In index space the metric is diagonal (orthonormal direction, one spacing per axis).
+        double squaredDistance = 0.0;
+        for (unsigned int other = 0; other < 3; ++other)
+        {
+          const double faceCenter = static_cast<double>(voxel[other]) + (other == axis ? 0.5 * step : 0.0);
+          const double difference = (faceCenter - queryIndex[other]) * spacing[other];
+          squaredDistance += difference * difference;
+        }
+        if (squaredDistance < nearestSquaredDistance)
+        {
+          nearestSquaredDistance = squaredDistance;
+          nearest.voxel = voxel;
+          nearest.neighbor = neighbor;
+        }
+      }
+    }
+  }
+  nearest.distance = std::sqrt(nearestSquaredDistance);
+  return nearest;
+}
+
+template <typename TInputImage>
+auto
+ImageLabelOracle<TInputImage>::FaceCenterOf(const IndexType & voxel, const IndexType & neighbor) const -> Vector3
+{
+  ContinuousIndex<double, 3> faceCenter;
+  for (unsigned int axis = 0; axis < 3; ++axis)
+  {
+    faceCenter[axis] = 0.5 * (static_cast<double>(voxel[axis]) + static_cast<double>(neighbor[axis]));
+  }
+  PointType point;
+  m_LabelImage->TransformContinuousIndexToPhysicalPoint(faceCenter, point);
+  return { point[0], point[1], point[2] };
 }
 
 template <typename TInputImage>
@@ -216,42 +440,21 @@ ImageLabelOracle<TInputImage>::ClosestSurfacePoint(const Vector3 & query) const
 {
   // The vector operators live in the core's namespace, which argument-dependent lookup on std::array misses.
   using delaunay_refinement::Distance;
-  using delaunay_refinement::SquaredNorm;
   using delaunay_refinement::operator+;
-  using delaunay_refinement::operator-;
   using delaunay_refinement::operator*;
   if (m_NumberOfObjectVoxels == 0)
   {
     return { query, std::numeric_limits<double>::infinity() };
   }
-  // The nearest interface voxel, then its neighbour across the interface nearest to the query: the surface
-  // crosses the segment between their centres.
-  const IndexType start = NearestIndexInGrid(query);
-  const IndexType interfaceVoxel = start + m_FeatureOffsets->GetPixel(start);
-  const LabelType interfaceLabel = m_LabelImage->GetPixel(interfaceVoxel);
-  const auto &    region = m_LabelImage->GetBufferedRegion();
-  const Vector3   inside = CenterOf(interfaceVoxel);
-  Vector3         across = inside;
-  double          nearestSquaredDistance = std::numeric_limits<double>::infinity();
-  for (unsigned int axis = 0; axis < 3; ++axis)
+  const InterfaceFace face = NearestInterfaceFace(query);
+  const Vector3       middle = FaceCenterOf(face.voxel, face.neighbor);
+  if (m_LabelsAreVoxelwise)
   {
-    for (const int step : { -1, 1 })
-    {
-      IndexType neighbor = interfaceVoxel;
-      neighbor[axis] += step;
-      if (!region.IsInside(neighbor) || m_LabelImage->GetPixel(neighbor) == interfaceLabel)
-      {
-        continue;
-      }
-      const Vector3 center = CenterOf(neighbor);
-      const double  squaredDistance = SquaredNorm(query - 0.5 * (inside + center));
-      if (squaredDistance < nearestSquaredDistance)
-      {
-        nearestSquaredDistance = squaredDistance;
-        across = center;
-      }
-    }
+    // Nearest-neighbour labels change exactly half-way between the two voxel centres.
+    return { middle, face.distance };
   }
+  const Vector3 inside = CenterOf(face.voxel);
+  const Vector3 across = CenterOf(face.neighbor);
   // A smoothing interpolator can disagree with the voxel labels; then bracket the surface from the query.
   for (const auto & bracket :
        { std::make_pair(inside, across), std::make_pair(query, inside), std::make_pair(query, across) })
@@ -262,7 +465,6 @@ ImageLabelOracle<TInputImage>::ClosestSurfacePoint(const Vector3 & query) const
       return { crossing, Distance(query, crossing) };
     }
   }
-  const Vector3 middle = 0.5 * (inside + across);
   return { middle, Distance(query, middle) };
 }
 

@@ -55,7 +55,7 @@ configure_and_build() {
     -DCMAKE_CXX_COMPILER_LAUNCHER=ccache \
     -DBUILD_TESTING=OFF -DBUILD_EXAMPLES=OFF -DBUILD_SHARED_LIBS=ON \
     -DITK_BUILD_DEFAULT_MODULES=OFF \
-    -DModule_ITKMesh=ON -DModule_ITKImageFunction=ON -DModule_ITKDistanceMap=ON \
+    -DModule_ITKMesh=ON -DModule_ITKImageFunction=ON \
     -DModule_ITKIONIFTI=ON -DModule_ITKBridgeNumPy=ON \
     -DModule_DelaunayImageToMesh=ON \
     -DITK_WRAP_PYTHON=ON -DITK_WRAP_IMAGE_DIMS=3 \
