@@ -38,7 +38,8 @@ struct TetrahedronQuality
   /** Smallest signed volume (negative = inverted). */
   double minimumVolume{ 0.0 };
   double totalVolume{ 0.0 };
-  /** Tetrahedra with signed volume <= 0. */
+  /** Tetrahedra whose orientation, decided exactly, is not positive (negative or flat). A tetrahedron flat to
+   * rounding but positively oriented is not counted: its floating-point volume may still be <= 0. */
   std::size_t invertedTetrahedra{ 0 };
   /** Tetrahedra sharing their vertex set with another tetrahedron. */
   std::size_t duplicateTetrahedra{ 0 };

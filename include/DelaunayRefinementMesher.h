@@ -31,7 +31,7 @@ namespace delaunay_refinement
 /** Parameters of the refinement (ALGORITHM.md). */
 struct RefinementParameters
 {
-  /** δ: surface sampling distance, in physical units (mm). Must be finite and > 0. */
+  /** δ: surface sampling distance, in physical units (mm). Must be in (0, 1e30]. */
   double surfaceSamplingDistance{ 1.0 };
   /** ρ: radius-edge bound. Must be finite and >= 1. Every output tetrahedron has radius-edge ratio < ρ. */
   double radiusEdgeBound{ 2.0 };

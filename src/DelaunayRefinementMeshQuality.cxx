@@ -21,6 +21,8 @@
 
 #include "DelaunayRefinementMeshQuality.h"
 
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+
 #include <algorithm>
 #include <functional>
 #include <limits>
@@ -34,6 +36,13 @@ namespace delaunay_refinement
 {
 namespace
 {
+
+/** Exact arithmetic for the measures that floating point cannot take on nearly flat tetrahedra. */
+using ExactPoint = CGAL::Exact_predicates_exact_constructions_kernel::Point_3;
+
+/** Relative disagreement of the squared distances from a floating-point circumcentre to the corners beyond which
+ * it is recomputed exactly (rounding alone stays near 1e-16). */
+constexpr double EquidistanceTolerance = 1e-10;
 
 constexpr double Infinity = std::numeric_limits<double>::infinity();
 constexpr double DegreesPerRadian = 180.0 / 3.14159265358979323846;
@@ -98,8 +107,24 @@ ShortestEdge(const TetrahedronCorners & p)
   return shortest;
 }
 
-/** Circumradius from the closed form of the circumcentre relative to p0; +infinity for a flat tetrahedron,
- * whose circumsphere does not exist (or is not unique). */
+ExactPoint
+ToExact(const Vector3 & point)
+{
+  return { point[0], point[1], point[2] };
+}
+
+/** The sign of the orientation of the tetrahedron, exactly: the mesher's (CGAL's) own notion of orientation.
+ * The floating-point volume of a tetrahedron flat to rounding can be 0 or negative when it is not. */
+CGAL::Orientation
+ExactOrientation(const TetrahedronCorners & p)
+{
+  return CGAL::orientation(ToExact(p[0]), ToExact(p[1]), ToExact(p[2]), ToExact(p[3]));
+}
+
+/** Circumradius from the closed form of the circumcentre relative to p0, or exactly when that closed form loses
+ * its digits (its centre is not equidistant from the corners): for the nearly flat tetrahedra that
+ * voxel-derived, co-spherical points produce, the floating-point radius is noise. +infinity for four exactly
+ * coplanar points, whose circumsphere does not exist (or is not unique). */
 double
 Circumradius(const TetrahedronCorners & p)
 {
@@ -107,12 +132,27 @@ Circumradius(const TetrahedronCorners & p)
   const Vector3 b = p[2] - p[0];
   const Vector3 c = p[3] - p[0];
   const double  denominator = 2.0 * Dot(a, Cross(b, c));
-  if (denominator == 0.0)
+  if (denominator != 0.0)
+  {
+    const Vector3 offset = (1.0 / denominator) *
+                           (SquaredNorm(a) * Cross(b, c) + SquaredNorm(b) * Cross(c, a) + SquaredNorm(c) * Cross(a, b));
+    const double squaredRadius = SquaredNorm(offset);
+    bool         equidistant = true;
+    for (int corner = 1; corner < 4; ++corner)
+    {
+      equidistant = equidistant && std::abs(SquaredNorm(p[0] + offset - p[corner]) - squaredRadius) <=
+                                     EquidistanceTolerance * squaredRadius;
+    }
+    if (equidistant)
+    {
+      return std::sqrt(squaredRadius);
+    }
+  }
+  if (ExactOrientation(p) == CGAL::COPLANAR)
   {
     return Infinity;
   }
-  const Vector3 numerator = SquaredNorm(a) * Cross(b, c) + SquaredNorm(b) * Cross(c, a) + SquaredNorm(c) * Cross(a, b);
-  return Norm(numerator) / std::abs(denominator);
+  return std::sqrt(CGAL::to_double(CGAL::squared_radius(ToExact(p[0]), ToExact(p[1]), ToExact(p[2]), ToExact(p[3]))));
 }
 
 /** Interior dihedral angle at edge (i, j): the angle between the two other vertices seen along the edge, i.e.
@@ -457,7 +497,7 @@ ComputeTetrahedronQuality(const TetrahedralMesh & mesh)
     const double             volume = SignedVolume(corners);
     quality.minimumVolume = std::min(quality.minimumVolume, volume);
     quality.totalVolume += volume;
-    if (volume <= 0.0)
+    if (ExactOrientation(corners) != CGAL::POSITIVE)
     {
       ++quality.invertedTetrahedra;
     }

@@ -363,13 +363,41 @@ private:
     return { PointOf(cell->vertex(0)), PointOf(cell->vertex(1)), PointOf(cell->vertex(2)), PointOf(cell->vertex(3)) };
   }
 
+  /** CGAL's filtered construction accepts its floating-point circumcentre as soon as that point lies inside the
+   * circumsphere, which almost any point near a nearly flat tetrahedron does: for the nearly flat, nearly
+   * co-spherical tetrahedra that voxel-derived points produce, it can be far from the centre, and every rule
+   * built on it (Voronoi edges, surface balls, labels) goes wrong. A centre whose corners are not equidistant
+   * is recomputed exactly. */
+  Vector3
+  CircumcenterOf(CellHandle cell, const std::array<Vector3, 4> & corners) const
+  {
+    const CgalPoint & p = cell->vertex(0)->point();
+    const CgalPoint & q = cell->vertex(1)->point();
+    const CgalPoint & r = cell->vertex(2)->point();
+    const CgalPoint & s = cell->vertex(3)->point();
+    const Vector3     center = ToVector(m_Circumcenter(p, q, r, s));
+    const double      squaredRadius = SquaredNorm(center - corners[0]);
+    for (int corner = 1; corner < 4; ++corner)
+    {
+      if (std::abs(SquaredNorm(center - corners[corner]) - squaredRadius) > EquidistanceTolerance * squaredRadius)
+      {
+        return ToVector(m_Circumcenter(p, q, r, s, true));
+      }
+    }
+    return center;
+  }
+
+  /** Relative disagreement of the squared distances from a floating-point circumcentre to the corners beyond
+   * which it is not trusted: far above rounding (1e-16) for any tetrahedron CGAL's floating-point construction
+   * handles well, far below any error that would move a Voronoi edge by a fraction of δ. */
+  static constexpr double EquidistanceTolerance = 1e-10;
+
   void
   ComputeCache(CellHandle cell)
   {
     CellCache &                  cache = cell->cache;
     const std::array<Vector3, 4> corners = CornersOf(cell);
-    cache.circumcenter = ToVector(m_Circumcenter(
-      cell->vertex(0)->point(), cell->vertex(1)->point(), cell->vertex(2)->point(), cell->vertex(3)->point()));
+    cache.circumcenter = CircumcenterOf(cell, corners);
     cache.squaredRadius = SquaredNorm(cache.circumcenter - corners[0]);
     cache.label = m_Oracle.LabelAt(cache.circumcenter);
     cache.surfaceDistance = m_Oracle.DistanceToSurface(cache.circumcenter);
@@ -1058,22 +1086,16 @@ private:
     return indices;
   }
 
-  /** The facet's vertices ordered so that its normal points away from the cell, smallest index first. */
+  /** The facet's vertices ordered so that its normal points away from the cell, smallest index first. CGAL's
+   * cells are positively oriented (decided exactly) and vertex_triple_index() lists a facet with its normal
+   * pointing into the cell, so the reverse order points out. A floating-point side test would be a coin toss on
+   * the tetrahedra flat to rounding that voxel data produce. */
   std::array<uint32_t, 3>
   OutwardFacet(CellHandle cell, int facet) const
   {
-    std::array<VertexHandle, 3> vertices{ cell->vertex((facet + 1) & 3),
-                                          cell->vertex((facet + 2) & 3),
-                                          cell->vertex((facet + 3) & 3) };
-    const Vector3               a = PointOf(vertices[0]);
-    const Vector3               normal = Cross(PointOf(vertices[1]) - a, PointOf(vertices[2]) - a);
-    if (Dot(normal, PointOf(cell->vertex(facet)) - a) > 0.0)
-    {
-      std::swap(vertices[1], vertices[2]);
-    }
-    std::array<uint32_t, 3> triangle{ vertices[0]->info().outputIndex,
-                                      vertices[1]->info().outputIndex,
-                                      vertices[2]->info().outputIndex };
+    std::array<uint32_t, 3> triangle{ cell->vertex(Triangulation::vertex_triple_index(facet, 0))->info().outputIndex,
+                                      cell->vertex(Triangulation::vertex_triple_index(facet, 2))->info().outputIndex,
+                                      cell->vertex(Triangulation::vertex_triple_index(facet, 1))->info().outputIndex };
     std::rotate(triangle.begin(), std::min_element(triangle.begin(), triangle.end()), triangle.end());
     return triangle;
   }
@@ -1171,6 +1193,11 @@ private:
   RefinementStatistics                                                      m_Statistics;
 };
 
+/** Beyond it the bounding box (the object's bounds grown by 3δ) makes the fourth powers of its coordinates in the
+ * circumcentre constructions overflow double precision (NaN circumcentres follow); and no object could be meshed
+ * at such a δ anyway. */
+constexpr double LargestSurfaceSamplingDistance = 1e30;
+
 void
 RequireInRange(bool inRange, const char * name, double value, const char * validRange)
 {
@@ -1187,7 +1214,8 @@ void
 ValidateParameters(const RefinementParameters & parameters)
 {
   const double delta = parameters.surfaceSamplingDistance;
-  RequireInRange(std::isfinite(delta) && delta > 0.0, "surfaceSamplingDistance (delta)", delta, "(0, +inf)");
+  RequireInRange(
+    delta > 0.0 && delta <= LargestSurfaceSamplingDistance, "surfaceSamplingDistance (delta)", delta, "(0, 1e30]");
   const double rho = parameters.radiusEdgeBound;
   RequireInRange(std::isfinite(rho) && rho >= 1.0, "radiusEdgeBound (rho)", rho, "[1, +inf)");
   const double sigma = parameters.minimumDihedralAngle;

@@ -84,9 +84,10 @@ public:
         }
       }
     };
-    const long   reach = static_cast<long>(std::ceil(radius / m_CellSize));
-    const double cellsToVisit = std::pow(2.0 * reach + 1.0, 3);
-    if (cellsToVisit > static_cast<double>(m_Cells.size()))
+    // In floating point until the scan is known to be small: the reach of a huge radius does not fit a long.
+    const double reachInCells = std::ceil(radius / m_CellSize);
+    const double cellsToVisit = std::pow(2.0 * reachInCells + 1.0, 3);
+    if (!(cellsToVisit <= static_cast<double>(m_Cells.size())))
     {
       for (const auto & cell : m_Cells)
       {
@@ -94,7 +95,8 @@ public:
       }
       return;
     }
-    const Key middle = KeyOf(center);
+    const long reach = static_cast<long>(reachInCells);
+    const Key  middle = KeyOf(center);
     for (long i = -reach; i <= reach; ++i)
     {
       for (long j = -reach; j <= reach; ++j)
@@ -143,7 +145,9 @@ private:
     std::size_t
     operator()(const Key & key) const
     {
-      return static_cast<std::size_t>(key.i * 73856093L ^ key.j * 19349663L ^ key.k * 83492791L);
+      // Unsigned: signed overflow would be undefined behaviour for the large keys of a small cell size.
+      return static_cast<std::size_t>(key.i) * 73856093u ^ static_cast<std::size_t>(key.j) * 19349663u ^
+             static_cast<std::size_t>(key.k) * 83492791u;
     }
   };
 
@@ -153,12 +157,22 @@ private:
     TPayload payload;
   };
 
+  /** Cell coordinates saturate far beyond any real use: a tiny cell size (δ) against the coordinates would
+   * otherwise overflow the conversion to an integer, which is undefined behaviour. Saturating keeps every query
+   * exact (it only merges far-away cells), since it never moves two keys further apart. */
+  static long
+  CellCoordinate(double coordinate)
+  {
+    constexpr double limit = 4.0e18; // below 2^63, with room for the query's reach
+    return static_cast<long>(std::clamp(std::floor(coordinate), -limit, limit));
+  }
+
   Key
   KeyOf(const Vector3 & point) const
   {
-    return { static_cast<long>(std::floor(point[0] / m_CellSize)),
-             static_cast<long>(std::floor(point[1] / m_CellSize)),
-             static_cast<long>(std::floor(point[2] / m_CellSize)) };
+    return { CellCoordinate(point[0] / m_CellSize),
+             CellCoordinate(point[1] / m_CellSize),
+             CellCoordinate(point[2] / m_CellSize) };
   }
 
   double                                               m_CellSize;

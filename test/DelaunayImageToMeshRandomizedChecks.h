@@ -1,0 +1,961 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef DelaunayImageToMeshRandomizedChecks_h
+#define DelaunayImageToMeshRandomizedChecks_h
+
+// What the randomized GoogleTest and the libFuzzer target (fuzz/) share: running the filter on an arbitrary
+// image with arbitrary parameters, sorting its outcome into "a mesh" or one of the documented exceptions, and
+// every guarantee of ALGORITHM.md checked on the mesh the filter returned. No GoogleTest here: the fuzzer
+// aborts on a violation instead of failing a test.
+
+#include "itkDelaunayImageToMeshFilter.h"
+#include "DelaunayRefinementMeshQuality.h"
+#include "itkDefaultStaticMeshTraits.h"
+#include "itkImageRegionConstIteratorWithIndex.h"
+#include "itkImageRegionIteratorWithIndex.h"
+#include "itkMesh.h"
+
+#include "itkLinearInterpolateImageFunction.h"
+#include "itkNearestNeighborInterpolateImageFunction.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace itk
+{
+namespace delaunay_image_to_mesh_randomized
+{
+
+namespace dr = delaunay_refinement;
+using dr::operator+;
+using dr::operator-;
+using dr::operator*;
+
+/** Double-precision points: the default itk::Mesh stores floats, which would blur the measured guarantees. */
+using MeshType = Mesh<int32_t, 3, DefaultStaticMeshTraits<int32_t, 3, 3, double, double, int32_t>>;
+
+/** Only rounding may eat into a bound that the theory gives exactly. */
+constexpr double RoundingSlack = 1e-9;
+
+/** How one run of the filter ended. Every value but Unexpected is documented behaviour. */
+enum class Outcome
+{
+  Mesh,
+  NoObjectVoxel,
+  NoTetrahedron,
+  VertexLimit,
+  InvalidParameter,
+  Aborted,
+  Unexpected
+};
+
+inline const char *
+OutcomeName(Outcome outcome)
+{
+  switch (outcome)
+  {
+    case Outcome::Mesh:
+      return "mesh";
+    case Outcome::NoObjectVoxel:
+      return "exception: no voxel selected";
+    case Outcome::NoTetrahedron:
+      return "exception: no tetrahedron (object too small for delta)";
+    case Outcome::VertexLimit:
+      return "exception: MaximumNumberOfVertices reached";
+    case Outcome::InvalidParameter:
+      return "exception: invalid parameter";
+    case Outcome::Aborted:
+      return "aborted (ProcessAborted)";
+    case Outcome::Unexpected:
+      return "UNEXPECTED";
+  }
+  return "UNEXPECTED";
+}
+
+/** The documented exception messages of itk::DelaunayImageToMeshFilter, as the substrings every one of them
+ * must contain. A description that matches none of them is an undocumented failure. */
+inline Outcome
+ClassifyExceptionDescription(const std::string & description)
+{
+  const auto contains = [&description](const char * text) { return description.find(text) != std::string::npos; };
+  if (contains("No voxel of the input is part of the object"))
+  {
+    return Outcome::NoObjectVoxel;
+  }
+  if (contains("The refinement produced no tetrahedron") && contains("too small for SurfaceSamplingDistance"))
+  {
+    return Outcome::NoTetrahedron;
+  }
+  // The core's message names its own parameter; the filter must add the name a user of the filter set.
+  if (contains("reached maximumNumberOfVertices") && contains("MaximumNumberOfVertices = "))
+  {
+    return Outcome::VertexLimit;
+  }
+  if (contains("Invalid SurfaceSamplingDistance") || contains("Invalid parameter "))
+  {
+    return Outcome::InvalidParameter;
+  }
+  return Outcome::Unexpected;
+}
+
+/** Everything a run sets on the filter. An empty `labels` means every non-zero label. */
+struct FilterSettings
+{
+  double surfaceSamplingDistance{ 0.0 };
+  double radiusEdgeBound{ 2.0 };
+  double minimumDihedralAngle{ 0.0 };
+  /** The safety cap: a few seconds of refinement at most. */
+  SizeValueType          maximumNumberOfVertices{ 10000 };
+  std::vector<dr::Label> labels;
+  bool                   mergeLabels{ false };
+  std::optional<double>  isoValue;
+  /** Local halvings of δ where a boundary comes out non-manifold (the filter's default is 3). */
+  unsigned int manifoldRefinementLevels{ 3 };
+  /** Wall-clock budget of one run; the run is aborted through AbortGenerateData when it is exceeded. */
+  double timeLimitSeconds{ 60.0 };
+};
+
+inline std::string
+Describe(const FilterSettings & settings)
+{
+  std::ostringstream text;
+  text.precision(17);
+  text << "delta " << settings.surfaceSamplingDistance << ", rho " << settings.radiusEdgeBound << ", sigma "
+       << settings.minimumDihedralAngle << ", MaximumNumberOfVertices " << settings.maximumNumberOfVertices;
+  if (!settings.labels.empty())
+  {
+    text << ", labels";
+    for (const dr::Label label : settings.labels)
+    {
+      text << ' ' << label;
+    }
+  }
+  if (settings.mergeLabels)
+  {
+    text << ", merged";
+  }
+  if (settings.isoValue)
+  {
+    text << ", iso-value " << *settings.isoValue;
+  }
+  text << ", manifold refinement levels " << settings.manifoldRefinementLevels;
+  return text.str();
+}
+
+/** What one run produced. */
+struct RunResult
+{
+  Outcome                  outcome{ Outcome::Unexpected };
+  std::string              message;
+  std::vector<std::string> violations;
+  std::size_t              tetrahedra{ 0 };
+  std::size_t              points{ 0 };
+  double                   seconds{ 0.0 };
+  bool                     timedOut{ false };
+  /** Of a mesh: the smallest volume in floating point (<= 0 for a sliver flat to rounding) and dihedral angle. */
+  double smallestVolume{ 0.0 };
+  double smallestDihedralAngle{ 0.0 };
+  /** What the refinement did, for a report. */
+  std::string refinement;
+};
+
+inline std::string
+DescribeRefinement(const dr::RefinementStatistics & statistics)
+{
+  std::ostringstream text;
+  text << statistics.triangulationVertices << " triangulation vertices; R1 " << statistics.insertionsR1 << ", R2 "
+       << statistics.insertionsR2 << ", R3 " << statistics.insertionsR3 << ", R4 " << statistics.insertionsR4
+       << ", R4' " << statistics.insertionsR4Dihedral << ", E1-E3 "
+       << statistics.insertionsE1 + statistics.insertionsE2 + statistics.insertionsE3 << ", deleted "
+       << statistics.deletedVertices << "; manifold refinement: " << statistics.manifoldRefinementRounds << " rounds, "
+       << statistics.manifoldRefinementZones << " zones, " << statistics.remainingNonManifoldVertices
+       << " non-manifold vertices left";
+  return text.str();
+}
+
+/** The labels the filter may give a tetrahedron: the labels of the image's voxels as the oracle maps them
+ * (rounded, kept when selected; 1 at or above the iso-value). */
+template <typename TImage>
+std::set<dr::Label>
+TissueLabelsOf(const TImage & image, const FilterSettings & settings)
+{
+  std::set<dr::Label>       labels;
+  const std::set<dr::Label> selected(settings.labels.begin(), settings.labels.end());
+  for (ImageRegionConstIteratorWithIndex<TImage> it(&image, image.GetBufferedRegion()); !it.IsAtEnd(); ++it)
+  {
+    const double value = static_cast<double>(it.Get());
+    if (settings.isoValue)
+    {
+      if (value >= *settings.isoValue)
+      {
+        labels.insert(1);
+      }
+      continue;
+    }
+    const auto label = static_cast<dr::Label>(std::lround(value));
+    if (label != dr::BackgroundLabel && (selected.empty() || selected.count(label)))
+    {
+      labels.insert(settings.mergeLabels ? 1 : label);
+    }
+  }
+  return labels;
+}
+
+inline std::string
+DescribeLabels(const std::set<dr::Label> & labels)
+{
+  std::ostringstream text;
+  text << '{';
+  for (const dr::Label label : labels)
+  {
+    text << ' ' << label;
+  }
+  text << " }";
+  return text.str();
+}
+
+/** Collects violations as readable sentences, at most a few of each kind. */
+class ViolationList
+{
+public:
+  template <typename... TParts>
+  void
+  Add(const TParts &... parts)
+  {
+    std::ostringstream text;
+    text.precision(17);
+    (text << ... << parts);
+    m_Violations.push_back(text.str());
+  }
+
+  std::vector<std::string>
+  Take()
+  {
+    return std::move(m_Violations);
+  }
+
+private:
+  std::vector<std::string> m_Violations;
+};
+
+inline double
+CircumradiusOf(const std::array<dr::Vector3, 4> & corners, dr::Vector3 & center)
+{
+  // Solve 2 (p_i - p_0) . c' = |p_i - p_0|^2 for c' = center - p_0 by Cramer's rule.
+  const dr::Vector3 a = corners[1] - corners[0];
+  const dr::Vector3 b = corners[2] - corners[0];
+  const dr::Vector3 c = corners[3] - corners[0];
+  const double      denominator = 2.0 * dr::Dot(a, dr::Cross(b, c));
+  const dr::Vector3 offset =
+    (1.0 / denominator) * (dr::SquaredNorm(a) * dr::Cross(b, c) + dr::SquaredNorm(b) * dr::Cross(c, a) +
+                           dr::SquaredNorm(c) * dr::Cross(a, b));
+  center = corners[0] + offset;
+  return dr::Norm(offset);
+}
+
+inline const char *
+KindName(dr::VertexKind kind)
+{
+  switch (kind)
+  {
+    case dr::VertexKind::BoxFace:
+      return "box-face";
+    case dr::VertexKind::BoxEdge:
+      return "box-edge";
+    case dr::VertexKind::Feature:
+      return "feature";
+    case dr::VertexKind::Free:
+      return "free";
+  }
+  return "?";
+}
+
+/** The shortest edge of the tetrahedra with an end of kind `kind`: both ends' kinds and positions. */
+inline std::string
+DescribeShortestEdgeOf(const dr::TetrahedralMesh & mesh, dr::VertexKind kind)
+{
+  double                        shortest = std::numeric_limits<double>::infinity();
+  std::pair<uint32_t, uint32_t> ends{ 0, 0 };
+  for (const auto & tetrahedron : mesh.tetrahedra)
+  {
+    for (int first = 0; first < 4; ++first)
+    {
+      for (int second = first + 1; second < 4; ++second)
+      {
+        const uint32_t a = tetrahedron[first];
+        const uint32_t b = tetrahedron[second];
+        const double   length = dr::Distance(mesh.points[a], mesh.points[b]);
+        if ((mesh.pointKinds[a] == kind || mesh.pointKinds[b] == kind) && length < shortest)
+        {
+          shortest = length;
+          ends = { a, b };
+        }
+      }
+    }
+  }
+  std::ostringstream text;
+  text.precision(17);
+  for (const uint32_t end : { ends.first, ends.second })
+  {
+    const dr::Vector3 & point = mesh.points[end];
+    text << (end == ends.first ? "" : " - ") << KindName(mesh.pointKinds[end]) << " vertex " << end << " (" << point[0]
+         << ", " << point[1] << ", " << point[2] << ")";
+  }
+  return text.str();
+}
+
+inline std::array<dr::Vector3, 4>
+CornersOf(const dr::TetrahedralMesh & mesh, std::size_t tetrahedron)
+{
+  const auto & indices = mesh.tetrahedra[tetrahedron];
+  return { mesh.points[indices[0]], mesh.points[indices[1]], mesh.points[indices[2]], mesh.points[indices[3]] };
+}
+
+/** A tetrahedron's corners (kinds and positions) and label, to reproduce a violation by hand. */
+inline std::string
+DescribeTetrahedron(const dr::TetrahedralMesh & mesh, std::size_t tetrahedron)
+{
+  std::ostringstream text;
+  text.precision(17);
+  text << "tetrahedron " << tetrahedron << " (label " << mesh.tetrahedronLabels[tetrahedron] << "):";
+  for (const uint32_t corner : mesh.tetrahedra[tetrahedron])
+  {
+    const dr::Vector3 & point = mesh.points[corner];
+    text << " " << KindName(mesh.pointKinds[corner]) << " (" << point[0] << ", " << point[1] << ", " << point[2] << ")";
+  }
+  return text.str();
+}
+
+/** The tetrahedron with the largest circumradius / shortest edge, recomputed here to name it. */
+inline std::size_t
+WorstRadiusEdgeTetrahedron(const dr::TetrahedralMesh & mesh)
+{
+  std::size_t worst = 0;
+  double      worstRatio = -1.0;
+  for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
+  {
+    const std::array<dr::Vector3, 4> corners = CornersOf(mesh, t);
+    dr::Vector3                      center;
+    double                           shortest = std::numeric_limits<double>::infinity();
+    for (int first = 0; first < 4; ++first)
+    {
+      for (int second = first + 1; second < 4; ++second)
+      {
+        shortest = std::min(shortest, dr::Distance(corners[first], corners[second]));
+      }
+    }
+    const double ratio = CircumradiusOf(corners, center) / shortest;
+    if (!std::isfinite(ratio))
+    {
+      return t;
+    }
+    if (ratio > worstRatio)
+    {
+      worst = t;
+      worstRatio = ratio;
+    }
+  }
+  return worst;
+}
+
+/** The tetrahedron with the smallest signed volume. */
+inline std::size_t
+SmallestVolumeTetrahedron(const dr::TetrahedralMesh & mesh)
+{
+  std::size_t smallest = 0;
+  double      smallestVolume = std::numeric_limits<double>::infinity();
+  for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
+  {
+    const std::array<dr::Vector3, 4> p = CornersOf(mesh, t);
+    const double                     volume = dr::Dot(p[1] - p[0], dr::Cross(p[2] - p[0], p[3] - p[0])) / 6.0;
+    if (volume < smallestVolume)
+    {
+      smallest = t;
+      smallestVolume = volume;
+    }
+  }
+  return smallest;
+}
+
+/** The interpolator the filter uses by default, to label points the way the filter does. */
+template <typename TImage>
+typename InterpolateImageFunction<TImage, double>::Pointer
+DefaultInterpolatorFor(const TImage & image, const FilterSettings & settings)
+{
+  typename InterpolateImageFunction<TImage, double>::Pointer interpolator;
+  if (settings.isoValue)
+  {
+    interpolator = LinearInterpolateImageFunction<TImage, double>::New();
+  }
+  else
+  {
+    interpolator = NearestNeighborInterpolateImageFunction<TImage, double>::New();
+  }
+  interpolator->SetInputImage(&image);
+  return interpolator;
+}
+
+/** The label the filter's oracle gives the physical point `point`. */
+template <typename TImage>
+dr::Label
+OracleLabelAt(const InterpolateImageFunction<TImage, double> & interpolator, const FilterSettings & settings,
+              const std::set<dr::Label> & tissues, const dr::Vector3 & point)
+{
+  // ITK's IsInsideBuffer() admits points whose nearest voxel, as ITK rounds, is one past the buffer.
+  const typename TImage::PointType physicalPoint(point.data());
+  ContinuousIndex<double, 3>       continuousIndex;
+  interpolator.GetInputImage()->TransformPhysicalPointToContinuousIndex(physicalPoint, continuousIndex);
+  typename TImage::IndexType nearestIndex;
+  nearestIndex.CopyWithRound(continuousIndex);
+  if (!interpolator.IsInsideBuffer(continuousIndex) ||
+      !interpolator.GetInputImage()->GetBufferedRegion().IsInside(nearestIndex))
+  {
+    return dr::BackgroundLabel;
+  }
+  const double value = interpolator.Evaluate(physicalPoint);
+  if (settings.isoValue)
+  {
+    return value >= *settings.isoValue ? 1 : dr::BackgroundLabel;
+  }
+  const auto label = static_cast<dr::Label>(std::lround(value));
+  if (settings.mergeLabels)
+  {
+    const std::set<dr::Label> selected(settings.labels.begin(), settings.labels.end());
+    return label != dr::BackgroundLabel && (selected.empty() || selected.count(label)) ? 1 : dr::BackgroundLabel;
+  }
+  return tissues.count(label) ? label : dr::BackgroundLabel;
+}
+
+/** The output is every tetrahedron whose circumcentre is inside the object, labelled with the label there.
+ * Voxel-derived circumcentres often lie exactly on a voxel face, edge or corner, where a rounding difference
+ * between the core's circumcentre and ours flips the nearest voxel: a label seen within a hair of the
+ * circumcentre is accepted.
+ * Tetrahedra flatter than 1e-6 relative volume are skipped: their recomputed circumcentre is not trustworthy. */
+template <typename TImage>
+void
+CheckCircumcenterLabels(const TImage & image, const FilterSettings & settings, const std::set<dr::Label> & tissues,
+                        const dr::TetrahedralMesh & mesh, ViolationList & violations)
+{
+  const auto   interpolator = DefaultInterpolatorFor(image, settings);
+  const auto & spacing = image.GetSpacing();
+  const double hair = 1e-6 * *std::max_element(spacing.Begin(), spacing.End());
+  std::size_t  wrong = 0;
+  for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
+  {
+    const std::array<dr::Vector3, 4> corners = CornersOf(mesh, t);
+    dr::Vector3                      center;
+    const double                     radius = CircumradiusOf(corners, center);
+    const double                     volume =
+      std::abs(dr::Dot(corners[1] - corners[0], dr::Cross(corners[2] - corners[0], corners[3] - corners[0]))) / 6.0;
+    if (!(volume > 1e-6 * radius * radius * radius))
+    {
+      continue;
+    }
+    // The centre itself first, then the 26 points a hair away (a centre can sit on a voxel edge or corner).
+    bool seen = false;
+    for (int probe = 0; probe < 27 && !seen; ++probe)
+    {
+      const int         code = (probe + 13) % 27;
+      const dr::Vector3 offset{ { hair * (code % 3 - 1), hair * (code / 3 % 3 - 1), hair * (code / 9 - 1) } };
+      seen = OracleLabelAt(*interpolator, settings, tissues, center + offset) == mesh.tetrahedronLabels[t];
+    }
+    if (!seen && wrong++ < 3)
+    {
+      violations.Add("tetrahedron ",
+                     t,
+                     " is labelled ",
+                     mesh.tetrahedronLabels[t],
+                     " but the image says ",
+                     OracleLabelAt(*interpolator, settings, tissues, center),
+                     " at its circumcentre (",
+                     center[0],
+                     ", ",
+                     center[1],
+                     ", ",
+                     center[2],
+                     ")");
+    }
+  }
+}
+
+/** The filter's two ITK outputs (tetrahedra with labels, interface triangles with GetInterfaceLabels()) as the
+ * core's mesh, so that every measure is taken on what a user receives; the point kinds, which an itk::Mesh has
+ * no place for, come from GetRefinedMesh(). */
+template <typename TFilter>
+dr::TetrahedralMesh
+MeshFromOutputs(TFilter & filter)
+{
+  const auto *        tetrahedra = filter.GetOutput();
+  const auto *        interfaces = filter.GetInterfaceMesh();
+  dr::TetrahedralMesh mesh;
+  for (auto point = tetrahedra->GetPoints()->Begin(); point != tetrahedra->GetPoints()->End(); ++point)
+  {
+    mesh.points.push_back({ point.Value()[0], point.Value()[1], point.Value()[2] });
+  }
+  mesh.pointKinds = filter.GetRefinedMesh().pointKinds;
+  for (auto cell = tetrahedra->GetCells()->Begin(); cell != tetrahedra->GetCells()->End(); ++cell)
+  {
+    const auto * ids = cell.Value()->GetPointIds();
+    mesh.tetrahedra.push_back({ static_cast<uint32_t>(ids[0]),
+                                static_cast<uint32_t>(ids[1]),
+                                static_cast<uint32_t>(ids[2]),
+                                static_cast<uint32_t>(ids[3]) });
+    typename TFilter::OutputMeshType::CellPixelType label{};
+    tetrahedra->GetCellData(cell.Index(), &label);
+    mesh.tetrahedronLabels.push_back(static_cast<dr::Label>(label));
+  }
+  for (auto cell = interfaces->GetCells()->Begin(); cell != interfaces->GetCells()->End(); ++cell)
+  {
+    const auto * ids = cell.Value()->GetPointIds();
+    mesh.boundaryTriangles.push_back(
+      { static_cast<uint32_t>(ids[0]), static_cast<uint32_t>(ids[1]), static_cast<uint32_t>(ids[2]) });
+  }
+  const auto & interfaceLabels = filter.GetInterfaceLabels();
+  mesh.boundaryTriangleLabels.assign(interfaceLabels.begin(), interfaceLabels.end());
+  return mesh;
+}
+
+/** Largest circumradius of the boundary triangles. Each lies in its surface ball, whose radius R3 keeps < δ. */
+inline double
+LargestBoundaryCircumradius(const dr::TetrahedralMesh & mesh)
+{
+  double largest = 0.0;
+  for (const auto & triangle : mesh.boundaryTriangles)
+  {
+    const dr::Vector3 & a = mesh.points[triangle[0]];
+    const dr::Vector3 & b = mesh.points[triangle[1]];
+    const dr::Vector3 & c = mesh.points[triangle[2]];
+    const double        twiceArea = dr::Norm(dr::Cross(b - a, c - a));
+    largest = std::max(largest, dr::Distance(a, b) * dr::Distance(b, c) * dr::Distance(c, a) / (2.0 * twiceArea));
+  }
+  return largest;
+}
+
+/** Well-formed tetrahedra, every point used and finite. */
+inline void
+CheckWellFormed(const dr::TetrahedralMesh & mesh, const dr::TetrahedronQuality & quality, ViolationList & violations)
+{
+  if (mesh.tetrahedra.empty() || mesh.boundaryTriangles.empty())
+  {
+    violations.Add("a mesh with ",
+                   mesh.tetrahedra.size(),
+                   " tetrahedra and ",
+                   mesh.boundaryTriangles.size(),
+                   " boundary triangles: a bounded object has both");
+  }
+  for (const dr::Vector3 & point : mesh.points)
+  {
+    if (!std::isfinite(point[0]) || !std::isfinite(point[1]) || !std::isfinite(point[2]))
+    {
+      violations.Add("a non-finite point");
+      break;
+    }
+  }
+  if (quality.malformedTetrahedra != 0 || quality.duplicateTetrahedra != 0 || quality.unusedPoints != 0 ||
+      quality.invertedTetrahedra != 0)
+  {
+    violations.Add("malformed ",
+                   quality.malformedTetrahedra,
+                   ", duplicate ",
+                   quality.duplicateTetrahedra,
+                   ", inverted ",
+                   quality.invertedTetrahedra,
+                   " tetrahedra (smallest volume ",
+                   quality.minimumVolume,
+                   "), unused points ",
+                   quality.unusedPoints,
+                   "; smallest ",
+                   DescribeTetrahedron(mesh, SmallestVolumeTetrahedron(mesh)));
+  }
+}
+
+/** Theorem 2 and Lemma 2 (σ = 0, any ρ >= 1): boundary triangles inside their surface balls (circumradius
+ * < δ), shortest edges (feature >= δ, free >= min(ρ, 2) δ), hence boundary planar angles > 30°; with ρ >= 2
+ * only feature vertices on the boundary (Lemma 5). Where the refinement halved δ locally for manifoldness, the
+ * edge bounds hold with the local δ, which is at least `finestDelta`, and Lemma 5 does not hold: a cell across
+ * the edge of a refined zone has edges shorter than the δ at its circumcentre, so an intersecting cell can
+ * reach radius-edge ratio ρ and its split (R4 on intersecting cells) leaves a free vertex near the surface. */
+inline void
+CheckBoundaryGuarantees(const dr::TetrahedralMesh & mesh, double delta, double finestDelta, bool refinedLocally,
+                        double rho, ViolationList & violations)
+{
+  const dr::SurfaceTopology boundary = dr::ComputeBoundaryTopology(mesh);
+  if (!(boundary.minimumPlanarAngle > 30.0))
+  {
+    violations.Add("smallest boundary planar angle ", boundary.minimumPlanarAngle, " deg <= 30 deg");
+  }
+  const double largestCircumradius = LargestBoundaryCircumradius(mesh);
+  if (!(largestCircumradius < delta))
+  {
+    violations.Add("largest boundary triangle circumradius ", largestCircumradius, " >= delta ", delta);
+  }
+  const auto & shortest = dr::ComputeShortestEdgesByKind(mesh).shortestEdge;
+  if (!(shortest.at(dr::VertexKind::Feature) >= finestDelta * (1.0 - RoundingSlack)))
+  {
+    violations.Add("an edge of a feature vertex of length ",
+                   shortest.at(dr::VertexKind::Feature),
+                   " < delta ",
+                   finestDelta,
+                   ": ",
+                   DescribeShortestEdgeOf(mesh, dr::VertexKind::Feature));
+  }
+  if (!(shortest.at(dr::VertexKind::Free) >= std::min(rho, 2.0) * finestDelta * (1.0 - RoundingSlack)))
+  {
+    violations.Add("an edge of a free vertex of length ",
+                   shortest.at(dr::VertexKind::Free),
+                   " < min(rho, 2) delta ",
+                   std::min(rho, 2.0) * finestDelta,
+                   ": ",
+                   DescribeShortestEdgeOf(mesh, dr::VertexKind::Free));
+  }
+  if (rho < 2.0 || refinedLocally)
+  {
+    return;
+  }
+  std::size_t nonFeatureCorners = 0;
+  std::string firstNonFeatureCorner;
+  for (const auto & triangle : mesh.boundaryTriangles)
+  {
+    for (const uint32_t vertex : triangle)
+    {
+      if (mesh.pointKinds.at(vertex) != dr::VertexKind::Feature && nonFeatureCorners++ == 0)
+      {
+        std::ostringstream text;
+        text.precision(17);
+        text << KindName(mesh.pointKinds[vertex]) << " vertex " << vertex << " (" << mesh.points[vertex][0] << ", "
+             << mesh.points[vertex][1] << ", " << mesh.points[vertex][2] << ")";
+        firstNonFeatureCorner = text.str();
+      }
+    }
+  }
+  if (nonFeatureCorners != 0)
+  {
+    violations.Add(nonFeatureCorners,
+                   " boundary triangle corners are not feature vertices (rho >= 2), the first a ",
+                   firstNonFeatureCorner);
+  }
+}
+
+/** The boundary that the tetrahedra and their labels imply, compared with the mesh's boundary triangles. */
+struct BoundaryConsistency
+{
+  /** Facets between different labels (or on the hull of the mesh) that are not boundary triangles. */
+  std::size_t missingTriangles{ 0 };
+  /** Boundary triangles that are no such facet, or that appear twice. */
+  std::size_t extraTriangles{ 0 };
+  /** Boundary triangles whose label pair is not {label of its tetrahedron, label on the other side}. */
+  std::size_t wrongLabels{ 0 };
+  /** Boundary triangles whose normal does not point away from the tetrahedron carrying the first label. */
+  std::size_t wrongOrientation{ 0 };
+  /** Facets of more than two tetrahedra: the tetrahedra overlap. */
+  std::size_t overSharedFacets{ 0 };
+  /** The first wrongly oriented triangle, for a report. */
+  std::string firstWronglyOriented;
+
+  bool
+  IsConsistent() const
+  {
+    return missingTriangles == 0 && extraTriangles == 0 && wrongLabels == 0 && wrongOrientation == 0 &&
+           overSharedFacets == 0;
+  }
+};
+
+/** Which side of the plane of `triangle` the point `apex` is on, decided exactly (CGAL's predicate), as the
+ * mesher decides the orientation of its tetrahedra: voxel data make tetrahedra flat to rounding, on which a
+ * floating-point sign is a coin toss. */
+inline CGAL::Orientation
+ExactOrientation(const dr::Vector3 & a, const dr::Vector3 & b, const dr::Vector3 & c, const dr::Vector3 & apex)
+{
+  using Point = CGAL::Exact_predicates_inexact_constructions_kernel::Point_3;
+  return CGAL::orientation(
+    Point(a[0], a[1], a[2]), Point(b[0], b[1], b[2]), Point(c[0], c[1], c[2]), Point(apex[0], apex[1], apex[2]));
+}
+
+/** TetrahedralMesh's promise: every facet between different labels, once, oriented away from its first label;
+ * a tissue/background facet has the tissue first, a tissue/tissue facet the smaller label first. */
+inline BoundaryConsistency
+CheckBoundaryAgainstTetrahedra(const dr::TetrahedralMesh & mesh)
+{
+  using Triangle = std::array<uint32_t, 3>;
+  const auto sorted = [](Triangle triangle) {
+    std::sort(triangle.begin(), triangle.end());
+    return triangle;
+  };
+  std::map<Triangle, std::vector<std::pair<std::size_t, uint32_t>>> sides;
+  for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
+  {
+    const auto & v = mesh.tetrahedra[t];
+    for (int apex = 0; apex < 4; ++apex)
+    {
+      sides[sorted({ v[(apex + 1) % 4], v[(apex + 2) % 4], v[(apex + 3) % 4] })].emplace_back(t, v[apex]);
+    }
+  }
+  BoundaryConsistency                          consistency;
+  std::map<Triangle, std::array<dr::Label, 2>> expectedLabels;
+  for (const auto & [facet, facetSides] : sides)
+  {
+    if (facetSides.size() > 2)
+    {
+      ++consistency.overSharedFacets;
+      continue;
+    }
+    const dr::Label first = mesh.tetrahedronLabels[facetSides[0].first];
+    const dr::Label second = facetSides.size() == 2 ? mesh.tetrahedronLabels[facetSides[1].first] : dr::BackgroundLabel;
+    if (first != second)
+    {
+      expectedLabels[facet] = second == dr::BackgroundLabel
+                                ? std::array<dr::Label, 2>{ first, second }
+                                : std::array<dr::Label, 2>{ std::min(first, second), std::max(first, second) };
+    }
+  }
+  std::set<Triangle> seen;
+  for (std::size_t i = 0; i < mesh.boundaryTriangles.size(); ++i)
+  {
+    const Triangle & triangle = mesh.boundaryTriangles[i];
+    const Triangle   key = sorted(triangle);
+    const auto       expected = expectedLabels.find(key);
+    if (expected == expectedLabels.end() || !seen.insert(key).second)
+    {
+      ++consistency.extraTriangles;
+      continue;
+    }
+    if (mesh.boundaryTriangleLabels[i] != expected->second)
+    {
+      ++consistency.wrongLabels;
+      continue;
+    }
+    for (const auto & [tetrahedron, apex] : sides[key])
+    {
+      if (mesh.tetrahedronLabels[tetrahedron] == expected->second[0] &&
+          ExactOrientation(
+            mesh.points[triangle[0]], mesh.points[triangle[1]], mesh.points[triangle[2]], mesh.points[apex]) !=
+            CGAL::NEGATIVE &&
+          consistency.wrongOrientation++ == 0)
+      {
+        std::ostringstream text;
+        text.precision(17);
+        text << "boundary triangle " << i << " (";
+        for (const uint32_t corner : triangle)
+        {
+          text << " (" << mesh.points[corner][0] << ", " << mesh.points[corner][1] << ", " << mesh.points[corner][2]
+               << ")";
+        }
+        text << " ) faces into " << DescribeTetrahedron(mesh, tetrahedron);
+        consistency.firstWronglyOriented = text.str();
+      }
+    }
+  }
+  consistency.missingTriangles = expectedLabels.size() - seen.size();
+  return consistency;
+}
+
+/** Every tetrahedron carries a tissue label of the image; every boundary triangle has a tissue first and a
+ * different tissue or the background second. */
+inline void
+CheckLabels(const dr::TetrahedralMesh & mesh, const std::set<dr::Label> & tissues, ViolationList & violations)
+{
+  for (std::size_t t = 0; t < mesh.tetrahedronLabels.size(); ++t)
+  {
+    if (!tissues.count(mesh.tetrahedronLabels[t]))
+    {
+      violations.Add("tetrahedron ",
+                     t,
+                     " has label ",
+                     mesh.tetrahedronLabels[t],
+                     ", not one of the image's labels ",
+                     DescribeLabels(tissues));
+      break;
+    }
+  }
+  for (std::size_t i = 0; i < mesh.boundaryTriangleLabels.size(); ++i)
+  {
+    const auto & labels = mesh.boundaryTriangleLabels[i];
+    if (!tissues.count(labels[0]) || !(tissues.count(labels[1]) || labels[1] == dr::BackgroundLabel) ||
+        labels[0] == labels[1])
+    {
+      violations.Add("boundary triangle ", i, " has labels {", labels[0], ", ", labels[1], "}");
+      break;
+    }
+  }
+  const BoundaryConsistency consistency = CheckBoundaryAgainstTetrahedra(mesh);
+  if (!consistency.IsConsistent())
+  {
+    violations.Add("boundary triangles disagree with the tetrahedra: missing ",
+                   consistency.missingTriangles,
+                   ", extra ",
+                   consistency.extraTriangles,
+                   ", wrong labels ",
+                   consistency.wrongLabels,
+                   ", wrong orientation ",
+                   consistency.wrongOrientation,
+                   ", over-shared facets ",
+                   consistency.overSharedFacets,
+                   "; ",
+                   consistency.firstWronglyOriented);
+  }
+}
+
+/** The two ITK outputs and GetRefinedMesh() describe the same mesh. */
+template <typename TFilter>
+void
+CheckOutputsAgree(TFilter & filter, const dr::TetrahedralMesh & fromOutputs, ViolationList & violations)
+{
+  const dr::TetrahedralMesh & refined = filter.GetRefinedMesh();
+  if (fromOutputs.points != refined.points || fromOutputs.tetrahedra != refined.tetrahedra ||
+      fromOutputs.tetrahedronLabels != refined.tetrahedronLabels ||
+      fromOutputs.boundaryTriangles != refined.boundaryTriangles ||
+      fromOutputs.boundaryTriangleLabels != refined.boundaryTriangleLabels)
+  {
+    violations.Add("the ITK outputs differ from GetRefinedMesh()");
+  }
+  if (filter.GetInterfaceMesh()->GetNumberOfPoints() != fromOutputs.points.size())
+  {
+    violations.Add("the interface mesh has ",
+                   filter.GetInterfaceMesh()->GetNumberOfPoints(),
+                   " points, not ",
+                   fromOutputs.points.size());
+  }
+}
+
+/** Every guarantee that holds for the settings, checked on what the filter returned, into `result`. */
+template <typename TFilter, typename TImage>
+void
+CheckGuarantees(TFilter & filter, const TImage & image, const FilterSettings & settings, RunResult & result)
+{
+  ViolationList                violations;
+  const dr::TetrahedralMesh    mesh = MeshFromOutputs(filter);
+  const double                 delta = filter.GetEffectiveSurfaceSamplingDistance();
+  const double                 rho = filter.GetRadiusEdgeBound();
+  const double                 sigma = filter.GetMinimumDihedralAngle();
+  const std::set<dr::Label>    tissues = TissueLabelsOf(image, settings);
+  const dr::TetrahedronQuality quality = dr::ComputeTetrahedronQuality(mesh);
+
+  CheckWellFormed(mesh, quality, violations);
+  CheckOutputsAgree(filter, mesh, violations);
+  if (!(quality.maximumRadiusEdgeRatio < rho))
+  {
+    violations.Add("largest radius-edge ratio ",
+                   quality.maximumRadiusEdgeRatio,
+                   " >= rho ",
+                   rho,
+                   ": ",
+                   DescribeTetrahedron(mesh, WorstRadiusEdgeTetrahedron(mesh)));
+  }
+  if (sigma > 0.0)
+  {
+    // R4' promises the dihedral bound; nothing of Theorem 2 is proven then.
+    if (!(quality.minimumDihedralAngle >= sigma * (1.0 - RoundingSlack)))
+    {
+      violations.Add("smallest dihedral angle ", quality.minimumDihedralAngle, " deg < sigma ", sigma, " deg");
+    }
+  }
+  else
+  {
+    const bool   refinedLocally = filter.GetRefinementStatistics().manifoldRefinementZones > 0;
+    const double finestDelta =
+      refinedLocally ? std::ldexp(delta, -static_cast<int>(filter.GetManifoldRefinementLevels())) : delta;
+    CheckBoundaryGuarantees(mesh, delta, finestDelta, refinedLocally, rho, violations);
+  }
+  CheckLabels(mesh, tissues, violations);
+  CheckCircumcenterLabels(image, settings, tissues, mesh, violations);
+  result.violations = violations.Take();
+  result.smallestVolume = quality.minimumVolume;
+  result.smallestDihedralAngle = quality.minimumDihedralAngle;
+}
+
+/** Runs `filter` on `image` with `settings`, and sorts the result. A ProcessAborted caused by the time limit
+ * is reported as timedOut. */
+template <typename TImage>
+RunResult
+RunAndCheck(const TImage * image, const FilterSettings & settings)
+{
+  using FilterType = DelaunayImageToMeshFilter<TImage, MeshType>;
+  using Clock = std::chrono::steady_clock;
+  auto filter = FilterType::New();
+  filter->SetInput(image);
+  filter->SetSurfaceSamplingDistance(settings.surfaceSamplingDistance);
+  filter->SetRadiusEdgeBound(settings.radiusEdgeBound);
+  filter->SetMinimumDihedralAngle(settings.minimumDihedralAngle);
+  filter->SetMaximumNumberOfVertices(settings.maximumNumberOfVertices);
+  filter->SetLabels(settings.labels);
+  filter->SetMergeLabels(settings.mergeLabels);
+  filter->SetManifoldRefinementLevels(settings.manifoldRefinementLevels);
+  if (settings.isoValue)
+  {
+    filter->SetIsoValue(*settings.isoValue);
+  }
+  RunResult  result;
+  const auto start = Clock::now();
+  const auto elapsed = [start] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+  filter->AddObserver(ProgressEvent(), [&](const EventObject &) {
+    if (elapsed() > settings.timeLimitSeconds)
+    {
+      result.timedOut = true;
+      filter->AbortGenerateDataOn();
+    }
+  });
+  try
+  {
+    filter->Update();
+    result.seconds = elapsed();
+    result.outcome = Outcome::Mesh;
+    result.tetrahedra = filter->GetOutput()->GetNumberOfCells();
+    result.points = filter->GetOutput()->GetNumberOfPoints();
+    result.refinement = DescribeRefinement(filter->GetRefinementStatistics());
+    CheckGuarantees(*filter, *image, settings, result);
+  }
+  catch (const ProcessAborted & aborted)
+  {
+    result.seconds = elapsed();
+    result.outcome = Outcome::Aborted;
+    result.message = aborted.GetDescription();
+  }
+  catch (const ExceptionObject & error)
+  {
+    result.seconds = elapsed();
+    result.message = error.GetDescription();
+    result.outcome = ClassifyExceptionDescription(result.message);
+  }
+  catch (const std::exception & error)
+  {
+    result.seconds = elapsed();
+    result.message = std::string("std::exception, not itk::ExceptionObject: ") + error.what();
+    result.outcome = Outcome::Unexpected;
+  }
+  catch (...)
+  {
+    result.seconds = elapsed();
+    result.message = "an exception of unknown type";
+    result.outcome = Outcome::Unexpected;
+  }
+  return result;
+}
+
+} // namespace delaunay_image_to_mesh_randomized
+} // namespace itk
+
+#endif

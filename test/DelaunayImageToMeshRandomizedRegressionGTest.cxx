@@ -1,0 +1,152 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+
+// Minimal reproductions of what the randomized suite and the fuzzer found (issue #5), each named after what it
+// reproduces. The cases found by the randomized suite itself are replayed from their seeds in
+// DelaunayImageToMeshRandomizedGTest.cxx (RandomizedRegression).
+
+#include "DelaunayImageToMeshRandomizedChecks.h"
+#include "itkImageLabelOracle.h"
+
+#include <gtest/gtest.h>
+
+namespace
+{
+
+using namespace itk::delaunay_image_to_mesh_randomized;
+
+// ---- ITK's nearest-neighbour lookup one voxel past the buffer ---------------------------------------------
+
+/** ITK admits continuous indices below the buffer's last half voxel (IsInsideBuffer), but rounds the largest
+ * double below 0.5 (0.49999999999999994: 2x + 0.5 rounds to 1.5, then to even) up to index 1. On an axis whose
+ * last index is 0, the nearest-neighbour interpolator then reads one voxel past the buffer; on the x axis that
+ * is the first voxel of the next row, so the oracle returns that voxel's label. Bisection towards the border of
+ * a one-slice image (or any region whose last index is 0) converges on exactly this point. */
+TEST(RegressionImageBorder, LabelAtTheLastHalfVoxelIsNotReadFromTheNextRow)
+{
+  using ImageType = itk::Image<unsigned char, 3>;
+  auto                 image = ImageType::New();
+  ImageType::IndexType start{ { -2, 0, 0 } };
+  ImageType::SizeType  size{ { 3, 3, 3 } };
+  image->SetRegions(ImageType::RegionType(start, size));
+  image->Allocate();
+  image->FillBuffer(0);
+  // The voxel a read past the end of row 0 lands on; the voxel whose half the query point is in stays 0.
+  image->SetPixel({ { -2, 1, 0 } }, 7);
+
+  using InterpolatorType = itk::NearestNeighborInterpolateImageFunction<ImageType, double>;
+  auto interpolator = InterpolatorType::New();
+  interpolator->SetInputImage(image);
+  const itk::ImageLabelOracle<ImageType> oracle(image, interpolator, itk::ImageLabelMapping{});
+
+  // Identity geometry: the continuous index is the physical point.
+  const double largestBelowHalf = std::nextafter(0.5, 0.0);
+  EXPECT_EQ(oracle.LabelAt({ largestBelowHalf, 0.0, 0.0 }), dr::BackgroundLabel);
+  EXPECT_EQ(oracle.LabelAt({ 0.25, 0.0, 0.0 }), dr::BackgroundLabel);
+  EXPECT_EQ(oracle.LabelAt({ -2.0, 1.0, 0.0 }), 7);
+}
+
+// ---- Measures of nearly flat tetrahedra -----------------------------------------------------------------
+
+dr::TetrahedralMesh
+OneTetrahedron(const std::array<dr::Vector3, 4> & corners)
+{
+  dr::TetrahedralMesh mesh;
+  mesh.points.assign(corners.begin(), corners.end());
+  mesh.pointKinds.assign(4, dr::VertexKind::Feature);
+  mesh.tetrahedra.push_back({ 0, 1, 2, 3 });
+  mesh.tetrahedronLabels.push_back(1);
+  return mesh;
+}
+
+/** Four co-circular feature vertices on a planar voxel face, as the filter output them (ManyLabels seed 5000073):
+ * a tetrahedron flat to rounding (6 V = 4.6e-16, exactly), positively oriented. Its exact radius-edge ratio is
+ * 0.8907113517953976 (rational arithmetic on these doubles); the floating-point closed form gave 2.29 and failed
+ * the ρ = 1.74 guarantee that the mesh meets. */
+TEST(RegressionNearlyFlatTetrahedra, QualityMeasuresTheRadiusEdgeRatioExactly)
+{
+  const dr::TetrahedralMesh mesh =
+    OneTetrahedron({ { { -113.74169165758201, 4.7346632131502844, 6.440471177941351 },
+                       { -112.64806435227415, 4.5027174127302221, 5.9780023792075596 },
+                       { -112.79057185192947, 5.834417466819291, 4.9731079321189213 },
+                       { -113.88419915723733, 6.0663632672393515, 5.4355767308527145 } } });
+  const dr::TetrahedronQuality quality = dr::ComputeTetrahedronQuality(mesh);
+  EXPECT_NEAR(quality.maximumRadiusEdgeRatio, 0.8907113517953976, 1e-9);
+  EXPECT_EQ(quality.invertedTetrahedra, 0u);
+}
+
+/** A tetrahedron whose floating-point volume is exactly 0 but whose orientation is positive (6 V = 8.7e-16,
+ * exactly), as the filter output it (Mixed seed 8000109): not inverted, and its radius-edge ratio is
+ * 0.740362283950658, not infinity. */
+TEST(RegressionNearlyFlatTetrahedra, QualityDoesNotCountAPositiveTetrahedronFlatToRoundingAsInverted)
+{
+  const dr::TetrahedralMesh mesh =
+    OneTetrahedron({ { { -3.5042232656125867, 2.6514012778465439, -49.841534157956914 },
+                       { -4.0250785244560827, 0.86650403098721995, -48.998817420382721 },
+                       { -5.4397520226775136, 3.2841351433389558, -49.697672528839448 },
+                       { -5.9606072815210105, 1.4992378964796318, -48.854955791265255 } } });
+  const dr::TetrahedronQuality quality = dr::ComputeTetrahedronQuality(mesh);
+  EXPECT_EQ(quality.invertedTetrahedra, 0u);
+  EXPECT_NEAR(quality.maximumRadiusEdgeRatio, 0.740362283950658, 1e-9);
+}
+
+// ---- Extreme but valid δ --------------------------------------------------------------------------------
+
+itk::Image<unsigned char, 3>::Pointer
+MakeSmallBall()
+{
+  using ImageType = itk::Image<unsigned char, 3>;
+  auto                image = ImageType::New();
+  ImageType::SizeType size;
+  size.Fill(8);
+  image->SetRegions(size);
+  image->Allocate();
+  for (itk::ImageRegionIteratorWithIndex<ImageType> it(image, image->GetBufferedRegion()); !it.IsAtEnd(); ++it)
+  {
+    const auto & index = it.GetIndex();
+    const double x = index[0] - 3.5, y = index[1] - 3.5, z = index[2] - 3.5;
+    it.Set(x * x + y * y + z * z <= 9.0 ? 1 : 0);
+  }
+  return image;
+}
+
+/** δ = 1e-300 mm is valid ((0, ...)) and must stop at the vertex cap. The spatial grids (cell size δ) turned
+ * coordinates / δ = 1e302 into a long, and hashed their keys with signed overflow: undefined behaviour that
+ * UndefinedBehaviorSanitizer stops on (scripts/test-sanitizers.sh; the fuzzer's first finding). */
+TEST(RegressionExtremeDelta, TinyDeltaStopsAtTheVertexCap)
+{
+  FilterSettings settings;
+  settings.surfaceSamplingDistance = 1e-300;
+  settings.maximumNumberOfVertices = 200;
+  const RunResult result = RunAndCheck<itk::Image<unsigned char, 3>>(MakeSmallBall(), settings);
+  EXPECT_EQ(result.outcome, Outcome::VertexLimit) << result.message;
+}
+
+/** δ = 1e300 mm made the bounding box's coordinates overflow in the circumcentre constructions: NaN
+ * circumcentres, then an index of -2^63 into the oracle's feature map (a wild read). Such a δ must be refused
+ * as an invalid parameter. */
+TEST(RegressionExtremeDelta, HugeDeltaIsRefusedAsAnInvalidParameter)
+{
+  FilterSettings settings;
+  settings.surfaceSamplingDistance = 1e300;
+  const RunResult result = RunAndCheck<itk::Image<unsigned char, 3>>(MakeSmallBall(), settings);
+  EXPECT_EQ(result.outcome, Outcome::InvalidParameter) << result.message;
+  EXPECT_NE(result.message.find("delta"), std::string::npos) << result.message;
+}
+
+} // namespace
