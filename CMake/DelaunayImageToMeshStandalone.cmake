@@ -37,7 +37,9 @@ if(BUILD_TESTING)
   add_subdirectory(test)
 endif()
 add_subdirectory(examples)
-if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/bench/CMakeLists.txt)
+# The benchmark against CGAL Mesh_3 (bench/README.md); the sanitizer build leaves it out.
+option(DelaunayImageToMesh_BUILD_BENCHMARK "Build delaunay-bench" ON)
+if(DelaunayImageToMesh_BUILD_BENCHMARK AND EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/bench/CMakeLists.txt)
   add_subdirectory(bench)
 endif()
 
