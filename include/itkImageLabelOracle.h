@@ -148,7 +148,9 @@ private:
   bool                             m_LabelsAreVoxelwise;
   typename LabelImageType::Pointer m_LabelImage;
   /** For each voxel of m_LabelImage (by buffer offset), the buffer offset of the nearest interface voxel. */
-  std::vector<uint32_t>               m_NearestInterfaceVoxel;
+  std::vector<uint32_t> m_NearestInterfaceVoxel;
+  /** Buffer offset steps of m_LabelImage along each axis. */
+  std::array<SizeValueType, 3>        m_BufferStrides{};
   delaunay_refinement::AxisAlignedBox m_ObjectBounds;
   SizeValueType                       m_NumberOfObjectVoxels{ 0 };
   double                              m_SurfaceTolerance{ 0.0 };

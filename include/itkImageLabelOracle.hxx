@@ -262,6 +262,8 @@ ImageLabelOracle<TInputImage>::BuildNearestInterfaceMap()
     itkGenericExceptionMacro(<< "ImageLabelOracle: the padded image has " << numberOfVoxels
                              << " voxels; at most 4294967294 are supported.");
   }
+  const auto & size = m_LabelImage->GetBufferedRegion().GetSize();
+  m_BufferStrides = { 1, size[0], size[0] * size[1] };
   m_NearestInterfaceVoxel.assign(numberOfVoxels, std::numeric_limits<uint32_t>::max());
   MarkInterfaceVoxels();
   for (unsigned int axis = 0; axis < 3; ++axis)
@@ -339,31 +341,34 @@ ImageLabelOracle<TInputImage>::CenterOf(const IndexType & index) const -> Vector
 
 /** The interface voxels nearest to the eight voxel centres around `query` (the feature transform is exact at
  * voxel centres only, and on an anisotropic grid the face nearest to a point need not belong to the interface
- * voxel nearest to its nearest centre). */
+ * voxel nearest to its nearest centre), as buffer offsets, sorted. */
 template <typename TInputImage>
 auto
 ImageLabelOracle<TInputImage>::InterfaceVoxelsAround(const ContinuousIndex<double, 3> & queryIndex) const
   -> InterfaceVoxelCandidates
 {
-  const auto & region = m_LabelImage->GetBufferedRegion();
-  IndexType    lowerCorner;
-  IndexType    lastIndex;
+  const auto &  region = m_LabelImage->GetBufferedRegion();
+  SizeValueType lowerCornerOffset = 0;
+  SizeValueType cornerSteps[3];
   for (unsigned int axis = 0; axis < 3; ++axis)
   {
-    lastIndex[axis] = region.GetIndex()[axis] + static_cast<IndexValueType>(region.GetSize()[axis]) - 1;
-    const double first = static_cast<double>(region.GetIndex()[axis]);
-    lowerCorner[axis] = static_cast<IndexValueType>(
-      std::floor(std::clamp(queryIndex[axis], first, std::max(first, static_cast<double>(lastIndex[axis]) - 1.0))));
+    const double        first = static_cast<double>(region.GetIndex()[axis]);
+    const SizeValueType size = region.GetSize()[axis];
+    const double        highestLowerCorner = std::max(first, first + static_cast<double>(size) - 2.0);
+    const auto          lowerCorner =
+      static_cast<SizeValueType>(std::floor(std::clamp(queryIndex[axis], first, highestLowerCorner)) - first);
+    lowerCornerOffset += lowerCorner * m_BufferStrides[axis];
+    cornerSteps[axis] = lowerCorner + 1 < size ? m_BufferStrides[axis] : 0;
   }
   InterfaceVoxelCandidates candidates{};
   for (unsigned int corner = 0; corner < 8; ++corner)
   {
-    IndexType index = lowerCorner;
+    SizeValueType offset = lowerCornerOffset;
     for (unsigned int axis = 0; axis < 3; ++axis)
     {
-      index[axis] = std::min(index[axis] + static_cast<IndexValueType>((corner >> axis) & 1), lastIndex[axis]);
+      offset += ((corner >> axis) & 1) * cornerSteps[axis];
     }
-    candidates[corner] = m_NearestInterfaceVoxel[m_LabelImage->ComputeOffset(index)];
+    candidates[corner] = m_NearestInterfaceVoxel[offset];
   }
   std::sort(candidates.begin(), candidates.end());
   return candidates;
@@ -372,7 +377,7 @@ ImageLabelOracle<TInputImage>::InterfaceVoxelsAround(const ContinuousIndex<doubl
 /** Of the faces between a candidate interface voxel and a face neighbour of another label, the one whose centre is
  * nearest to `query`: its two voxels. Face centres, not the faces' closest points: they lie on the surface that
  * marching cubes and CGAL's labelled-image domain see (half-way between voxel centres), where the corners of the
- * voxels' staircase do not. */
+ * voxels' staircase do not. Works on buffer offsets: this is the oracle's hot path. */
 template <typename TInputImage>
 auto
 ImageLabelOracle<TInputImage>::NearestInterfaceFace(const Vector3 & query) const -> InterfaceFace
@@ -381,21 +386,31 @@ ImageLabelOracle<TInputImage>::NearestInterfaceFace(const Vector3 & query) const
   m_LabelImage->TransformPhysicalPointToContinuousIndex(PointType(query.data()), queryIndex);
   const auto &             region = m_LabelImage->GetBufferedRegion();
   const auto &             spacing = m_LabelImage->GetSpacing();
+  const LabelType *        labels = m_LabelImage->GetBufferPointer();
   InterfaceVoxelCandidates candidates = InterfaceVoxelsAround(queryIndex);
   const auto               candidatesEnd = std::unique(candidates.begin(), candidates.end());
-  InterfaceFace            nearest;
+  SizeValueType            nearestVoxel = 0;
+  SizeValueType            nearestNeighbor = 0;
   double                   nearestSquaredDistance = std::numeric_limits<double>::infinity();
   for (auto candidate = candidates.begin(); candidate != candidatesEnd; ++candidate)
   {
-    const IndexType voxel = m_LabelImage->ComputeIndex(*candidate);
-    const LabelType label = m_LabelImage->GetPixel(voxel);
+    const SizeValueType voxel = *candidate;
+    const LabelType     label = labels[voxel];
+    SizeValueType       coordinates[3] = { voxel % m_BufferStrides[1],
+                                           (voxel / m_BufferStrides[1]) % region.GetSize()[1],
+                                           voxel / m_BufferStrides[2] };
+    double              center[3];
+    for (unsigned int axis = 0; axis < 3; ++axis)
+    {
+      center[axis] = static_cast<double>(region.GetIndex()[axis]) + static_cast<double>(coordinates[axis]);
+    }
     for (unsigned int axis = 0; axis < 3; ++axis)
     {
       for (const int step : { -1, 1 })
       {
-        IndexType neighbor = voxel;
-        neighbor[axis] += step;
-        if (!region.IsInside(neighbor) || m_LabelImage->GetPixel(neighbor) == label)
+        const bool          inside = step < 0 ? coordinates[axis] > 0 : coordinates[axis] + 1 < region.GetSize()[axis];
+        const SizeValueType neighbor = step < 0 ? voxel - m_BufferStrides[axis] : voxel + m_BufferStrides[axis];
+        if (!inside || labels[neighbor] == label)
         {
           continue;
         }
@@ -403,21 +418,22 @@ ImageLabelOracle<TInputImage>::NearestInterfaceFace(const Vector3 & query) const
         double squaredDistance = 0.0;
         for (unsigned int other = 0; other < 3; ++other)
         {
-          const double faceCenter = static_cast<double>(voxel[other]) + (other == axis ? 0.5 * step : 0.0);
+          const double faceCenter = center[other] + (other == axis ? 0.5 * step : 0.0);
           const double difference = (faceCenter - queryIndex[other]) * spacing[other];
           squaredDistance += difference * difference;
         }
         if (squaredDistance < nearestSquaredDistance)
         {
           nearestSquaredDistance = squaredDistance;
-          nearest.voxel = voxel;
-          nearest.neighbor = neighbor;
+          nearestVoxel = voxel;
+          nearestNeighbor = neighbor;
         }
       }
     }
   }
-  nearest.distance = std::sqrt(nearestSquaredDistance);
-  return nearest;
+  return { m_LabelImage->ComputeIndex(static_cast<OffsetValueType>(nearestVoxel)),
+           m_LabelImage->ComputeIndex(static_cast<OffsetValueType>(nearestNeighbor)),
+           std::sqrt(nearestSquaredDistance) };
 }
 
 template <typename TInputImage>
