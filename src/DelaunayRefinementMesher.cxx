@@ -57,10 +57,13 @@ struct VertexData
 /** What every rule asks of a tetrahedron, computed once when the tetrahedron is created. */
 struct CellCache
 {
-  Vector3 circumcenter{ { 0.0, 0.0, 0.0 } };
-  double  squaredRadius{ 0.0 };
-  double  surfaceDistance{ 0.0 };
-  Label   label{ BackgroundLabel };
+  static constexpr double NotYetComputed = -1.0;
+  Vector3                 circumcenter{ { 0.0, 0.0, 0.0 } };
+  double                  squaredRadius{ 0.0 };
+  /** Distance from the circumcentre to the surface; NotYetComputed until a rule asks (most cells are
+   * destroyed before that: the oracle's distance query is the refinement's most expensive per-cell step). */
+  double surfaceDistance{ NotYetComputed };
+  Label  label{ BackgroundLabel };
   /** Unique per evaluated cell. CGAL recycles freed cells, so a queue entry is current only while its cell
    * is in use and still carries the stamp it was queued with. (CGAL's erase counters would do, but GCC's
    * lifetime dead-store elimination drops the counter's stores made before a slot is reconstructed.) */
@@ -201,13 +204,17 @@ class LocalSampling
 public:
   explicit LocalSampling(double delta)
     : m_Delta(delta)
-    , m_ZoneCenters(ZoneRadiusFactor * delta)
+    , m_ZoneCenters(2.0 * ZoneRadiusFactor * delta)
   {}
 
   double
   LocalDelta(const Vector3 & point) const
   {
     double delta = m_Delta;
+    if (m_Zones.empty())
+    {
+      return delta;
+    }
     m_ZoneCenters.ForEachWithin(point, ZoneRadiusFactor * m_Delta, [&](std::size_t zone) {
       if (SquaredNorm(point - m_Zones[zone].center) < m_Zones[zone].squaredRadius)
       {
@@ -270,8 +277,9 @@ public:
     , m_Parameters(parameters)
     , m_Observer(observer)
     , m_Delta(parameters.surfaceSamplingDistance)
-    , m_FeatureVertices(parameters.surfaceSamplingDistance)
-    , m_FreeVertices(2.0 * parameters.surfaceSamplingDistance)
+    // Cells twice the largest query radius: a query then looks at 2 x 2 x 2 cells.
+    , m_FeatureVertices(2.0 * parameters.surfaceSamplingDistance)
+    , m_FreeVertices(4.0 * parameters.surfaceSamplingDistance)
     , m_Sizing(parameters.surfaceSamplingDistance)
   {}
 
@@ -375,8 +383,8 @@ private:
     const CgalPoint & q = cell->vertex(1)->point();
     const CgalPoint & r = cell->vertex(2)->point();
     const CgalPoint & s = cell->vertex(3)->point();
-    const Vector3     center = ToVector(m_Circumcenter(p, q, r, s));
-    const double      squaredRadius = SquaredNorm(center - corners[0]);
+    const Vector3 center = ToVector(m_Circumcenter(p, q, r, s));
+    const double  squaredRadius = SquaredNorm(center - corners[0]);
     for (int corner = 1; corner < 4; ++corner)
     {
       if (std::abs(SquaredNorm(center - corners[corner]) - squaredRadius) > EquidistanceTolerance * squaredRadius)
@@ -400,7 +408,7 @@ private:
     cache.circumcenter = CircumcenterOf(cell, corners);
     cache.squaredRadius = SquaredNorm(cache.circumcenter - corners[0]);
     cache.label = m_Oracle.LabelAt(cache.circumcenter);
-    cache.surfaceDistance = m_Oracle.DistanceToSurface(cache.circumcenter);
+    cache.surfaceDistance = CellCache::NotYetComputed;
     cache.stamp = ++m_LastStamp;
   }
 
@@ -411,9 +419,16 @@ private:
     return m_Triangulation.is_infinite(neighbor) ? BackgroundLabel : neighbor->cache.label;
   }
 
+  /** Whether the cell's circumsphere meets the surface; computes and caches the circumcentre's distance to the
+   * surface on first use. */
   bool
-  IsIntersecting(const CellCache & cache) const
+  IsIntersecting(CellHandle cell) const
   {
+    CellCache & cache = cell->cache;
+    if (cache.surfaceDistance == CellCache::NotYetComputed)
+    {
+      cache.surfaceDistance = m_Oracle.DistanceToSurface(cache.circumcenter);
+    }
     return cache.surfaceDistance * cache.surfaceDistance <= cache.squaredRadius;
   }
 
@@ -447,7 +462,8 @@ private:
   std::optional<QueueLevel>
   Classify(CellHandle cell) const
   {
-    if (IsIntersecting(cell->cache) || HasLabelChangeAcrossAFacet(cell))
+    // The label test first: it is cheap and often decides without the oracle's distance.
+    if (HasLabelChangeAcrossAFacet(cell) || IsIntersecting(cell))
     {
       return QueueLevel::Surface;
     }
@@ -505,7 +521,7 @@ private:
   FindApplicableRule(CellHandle cell) const
   {
     const CellCache & cache = cell->cache;
-    if (IsIntersecting(cache))
+    if (IsIntersecting(cell))
     {
       const SurfacePoint closest = m_Oracle.ClosestSurfacePoint(cache.circumcenter);
       const double       deltaAtClosest = m_Sizing.LocalDelta(closest.point);
