@@ -375,7 +375,9 @@ private:
    * circumsphere, which almost any point near a nearly flat tetrahedron does: for the nearly flat, nearly
    * co-spherical tetrahedra that voxel-derived points produce, it can be far from the centre, and every rule
    * built on it (Voronoi edges, surface balls, labels) goes wrong. A centre whose corners are not equidistant
-   * is recomputed exactly. */
+   * is recomputed exactly, and so is the centre of a nearly flat tetrahedron: there every point of a whole line
+   * is nearly equidistant from the corners, so equidistance cannot vouch for the centre (the fuzzer found an R3
+   * surface ball, on a Voronoi edge ending at such a centre, that held a feature vertex 0.88 δ from its centre). */
   Vector3
   CircumcenterOf(CellHandle cell, const std::array<Vector3, 4> & corners) const
   {
@@ -383,6 +385,10 @@ private:
     const CgalPoint & q = cell->vertex(1)->point();
     const CgalPoint & r = cell->vertex(2)->point();
     const CgalPoint & s = cell->vertex(3)->point();
+    if (IsNearlyFlat(corners))
+    {
+      return ToVector(m_Circumcenter(p, q, r, s, true));
+    }
     const Vector3 center = ToVector(m_Circumcenter(p, q, r, s));
     const double  squaredRadius = SquaredNorm(center - corners[0]);
     for (int corner = 1; corner < 4; ++corner)
@@ -394,6 +400,27 @@ private:
     }
     return center;
   }
+
+  /** Whether six times the volume is below FlatnessTolerance times the cube of the longest edge: then the
+   * floating-point circumcentre's error along the nearly degenerate direction can reach rounding / flatness. */
+  static bool
+  IsNearlyFlat(const std::array<Vector3, 4> & corners)
+  {
+    double longestSquaredEdge = 0.0;
+    for (int i = 0; i < 4; ++i)
+    {
+      for (int j = i + 1; j < 4; ++j)
+      {
+        longestSquaredEdge = std::max(longestSquaredEdge, SquaredNorm(corners[i] - corners[j]));
+      }
+    }
+    const double sixVolume = Dot(corners[1] - corners[0], Cross(corners[2] - corners[0], corners[3] - corners[0]));
+    return std::abs(sixVolume) < FlatnessTolerance * longestSquaredEdge * std::sqrt(longestSquaredEdge);
+  }
+
+  /** Keeps the floating-point circumcentre's error below about 1e-7 of the longest edge (rounding 1e-16 over a
+   * flatness above 1e-9). */
+  static constexpr double FlatnessTolerance = 1e-9;
 
   /** Relative disagreement of the squared distances from a floating-point circumcentre to the corners beyond
    * which it is not trusted: far above rounding (1e-16) for any tetrahedron CGAL's floating-point construction
