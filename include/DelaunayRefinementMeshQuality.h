@@ -22,6 +22,7 @@
 
 #include <map>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace delaunay_refinement
@@ -101,6 +102,52 @@ DelaunayImageToMesh_EXPORT std::vector<std::array<uint32_t, 3>>
  * one of its sides. */
 DelaunayImageToMesh_EXPORT SurfaceTopology
 ComputeLabelBoundaryTopology(const TetrahedralMesh & mesh, Label label);
+
+/** Largest circumradius of the boundary triangles. Each boundary triangle lies in its surface ball, whose radius
+ * R3 keeps below δ, so this is below δ (Theorem 2). A degenerate triangle (collinear or coincident corners) has
+ * no circumcircle and counts as +infinity; 0 without boundary triangles. Throws std::invalid_argument for a
+ * vertex index out of range. */
+DelaunayImageToMesh_EXPORT double
+LargestBoundaryCircumradius(const TetrahedralMesh & mesh);
+
+/** The boundary that the tetrahedra and their labels imply, compared with the mesh's boundary triangles. */
+struct BoundaryConsistency
+{
+  /** Facets between different labels (or on the hull of the mesh) that are not boundary triangles. */
+  std::size_t missingTriangles{ 0 };
+  /** Boundary triangles that are no such facet, or that appear twice. */
+  std::size_t extraTriangles{ 0 };
+  /** Boundary triangles whose label pair is not {label of its tetrahedron, label on the other side}. */
+  std::size_t wrongLabels{ 0 };
+  /** Boundary triangles whose normal does not point away from the tetrahedron carrying the first label. */
+  std::size_t wrongOrientation{ 0 };
+  /** Facets of more than two tetrahedra: the tetrahedra overlap. */
+  std::size_t overSharedFacets{ 0 };
+  /** The first wrongly oriented triangle and the tetrahedron it faces into (corners, kinds, label), for a
+   * report; empty when every triangle is oriented right. */
+  std::string firstWronglyOriented;
+
+  bool
+  IsConsistent() const
+  {
+    return missingTriangles == 0 && extraTriangles == 0 && wrongLabels == 0 && wrongOrientation == 0 &&
+           overSharedFacets == 0;
+  }
+};
+
+/** TetrahedralMesh's promise about its boundary, checked facet by facet against the tetrahedra: every facet
+ * between different labels (a facet on the hull of the mesh has the background on its other side) is a
+ * boundary triangle, once; a tissue/background facet has the tissue first, a tissue/tissue facet the smaller
+ * label first; its normal points away from the tetrahedron carrying the first label. The orientation is
+ * decided with exact predicates, as the mesher decides the orientation of its tetrahedra: voxel data make
+ * tetrahedra flat to rounding, on which a floating-point sign is a coin toss. Throws std::invalid_argument for
+ * a vertex index out of range or a label array whose size is not that of the cells it labels. */
+DelaunayImageToMesh_EXPORT BoundaryConsistency
+CheckBoundaryAgainstTetrahedra(const TetrahedralMesh & mesh);
+
+/** The name of a vertex kind for reports: "box-face", "box-edge", "feature" or "free". */
+DelaunayImageToMesh_EXPORT const char *
+VertexKindName(VertexKind kind);
 
 /** Point-to-triangle-surface distance queries (an AABB tree over the triangles). */
 class DelaunayImageToMesh_EXPORT TriangleSurfaceDistance

@@ -17,16 +17,19 @@
  *=========================================================================*/
 
 // Mesh measures computed from the mesh alone, so that tests can check the refinement's guarantees without
-// trusting anything the refinement reports about itself. Plain C++ on purpose: no CGAL, so this compiles fast.
+// trusting anything the refinement reports about itself. Floating point where it is trustworthy; CGAL's exact
+// predicates where it is not (orientations, and the circumradii of nearly flat tetrahedra).
 
 #include "DelaunayRefinementMeshQuality.h"
 
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <limits>
 #include <numeric>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -461,20 +464,123 @@ MinimumPlanarAngle(const std::vector<Vector3> & points, const std::vector<Triang
   return smallest;
 }
 
+/** Throws std::invalid_argument, naming `caller` and the kind of cell, for a vertex index out of range: the
+ * measures index the points without checking. */
+template <std::size_t NumberOfCorners>
 void
-CheckTriangleIndices(const std::vector<Vector3> & points, const std::vector<Triangle> & triangles)
+CheckVertexIndices(const char * caller, const char * cellName, const std::vector<Vector3> & points,
+                   const std::vector<std::array<uint32_t, NumberOfCorners>> & cells)
 {
-  for (const Triangle & triangle : triangles)
+  for (const auto & cell : cells)
   {
-    for (const uint32_t index : triangle)
+    for (const uint32_t index : cell)
     {
       if (index >= points.size())
       {
-        throw std::invalid_argument("ComputeSurfaceTopology: triangle vertex index " + std::to_string(index) +
+        throw std::invalid_argument(std::string(caller) + ": " + cellName + " vertex index " + std::to_string(index) +
                                     " is out of range (number of points: " + std::to_string(points.size()) + ")");
       }
     }
   }
+}
+
+/** Throws std::invalid_argument, naming `caller`, when `labels` does not label every cell exactly once. */
+void
+CheckLabelCount(const char * caller, const char * labelsName, std::size_t numberOfLabels, std::size_t numberOfCells)
+{
+  if (numberOfLabels != numberOfCells)
+  {
+    throw std::invalid_argument(std::string(caller) + ": " + labelsName + " has " + std::to_string(numberOfLabels) +
+                                " entries for " + std::to_string(numberOfCells) + " cells");
+  }
+}
+
+Triangle
+SortedVertices(Triangle triangle)
+{
+  std::sort(triangle.begin(), triangle.end());
+  return triangle;
+}
+
+/** A tetrahedron seen from one of its facets: the facet's sorted vertices, the tetrahedron, and its vertex off
+ * the facet. */
+struct FacetSide
+{
+  Triangle    facet;
+  std::size_t tetrahedron;
+  uint32_t    apex;
+};
+
+/** Every facet of every tetrahedron, sorted by facet so that the sides of a facet are adjacent: one sorted array
+ * instead of a node per facet, for the millions of facets of a large mesh. */
+std::vector<FacetSide>
+SortedFacetSides(const std::vector<Tetrahedron> & tetrahedra)
+{
+  std::vector<FacetSide> sides;
+  sides.reserve(4 * tetrahedra.size());
+  for (std::size_t t = 0; t < tetrahedra.size(); ++t)
+  {
+    const Tetrahedron & v = tetrahedra[t];
+    for (int apex = 0; apex < 4; ++apex)
+    {
+      sides.push_back({ SortedVertices({ { v[(apex + 1) % 4], v[(apex + 2) % 4], v[(apex + 3) % 4] } }), t, v[apex] });
+    }
+  }
+  std::sort(sides.begin(), sides.end(), [](const FacetSide & a, const FacetSide & b) { return a.facet < b.facet; });
+  return sides;
+}
+
+/** A facet between different labels: what its boundary triangle must carry. */
+struct ExpectedBoundaryTriangle
+{
+  Triangle             facet;
+  std::array<Label, 2> labels;
+  /** The side whose tetrahedron carries labels[0]: the triangle's normal must point away from it. */
+  const FacetSide * firstLabelSide;
+  bool              seen;
+};
+
+/** The boundary triangle a facet with sides labelled `one` and `other` (the background for a facet on the hull)
+ * must carry, as TetrahedralMesh promises: the tissue first against the background, else the smaller label
+ * first. Both the tissue/background and the tissue/tissue order are decided by the labels alone, not by which
+ * side is met first. */
+std::array<Label, 2>
+BoundaryLabelsBetween(Label one, Label other)
+{
+  if (other == BackgroundLabel || one == BackgroundLabel)
+  {
+    return { { one == BackgroundLabel ? other : one, BackgroundLabel } };
+  }
+  return { { std::min(one, other), std::max(one, other) } };
+}
+
+/** "boundary triangle i ( (x, y, z) ... ) faces into tetrahedron t (label l): kind (x, y, z) ...": enough to
+ * reproduce a wrongly oriented triangle by hand. */
+std::string
+DescribeTriangleFacingInto(const TetrahedralMesh & mesh, std::size_t triangleIndex, std::size_t tetrahedron)
+{
+  std::ostringstream text;
+  text.precision(17);
+  const auto writePoint = [&text, &mesh](uint32_t index) {
+    const Vector3 & point = mesh.points[index];
+    text << " (" << point[0] << ", " << point[1] << ", " << point[2] << ")";
+  };
+  text << "boundary triangle " << triangleIndex << " (";
+  for (const uint32_t corner : mesh.boundaryTriangles[triangleIndex])
+  {
+    writePoint(corner);
+  }
+  text << " ) faces into tetrahedron " << tetrahedron << " (label " << mesh.tetrahedronLabels[tetrahedron] << "):";
+  for (const uint32_t corner : mesh.tetrahedra[tetrahedron])
+  {
+    // A mesh assembled by hand may come without point kinds.
+    if (corner < mesh.pointKinds.size())
+    {
+      text << ' ' << VertexKindName(mesh.pointKinds[corner]);
+    }
+    writePoint(corner);
+  }
+  return text.str();
 }
 
 } // namespace
@@ -520,7 +626,7 @@ ComputeTetrahedronQuality(const TetrahedralMesh & mesh)
 SurfaceTopology
 ComputeSurfaceTopology(const std::vector<Vector3> & points, const std::vector<std::array<uint32_t, 3>> & triangles)
 {
-  CheckTriangleIndices(points, triangles);
+  CheckVertexIndices("ComputeSurfaceTopology", "triangle", points, triangles);
   SurfaceTopology topology;
   topology.numberOfTriangles = triangles.size();
 
@@ -597,6 +703,118 @@ SurfaceTopology
 ComputeLabelBoundaryTopology(const TetrahedralMesh & mesh, Label label)
 {
   return ComputeSurfaceTopology(mesh.points, LabelBoundaryTriangles(mesh, label));
+}
+
+double
+LargestBoundaryCircumradius(const TetrahedralMesh & mesh)
+{
+  CheckVertexIndices("LargestBoundaryCircumradius", "boundary triangle", mesh.points, mesh.boundaryTriangles);
+  double largest = 0.0;
+  for (const Triangle & triangle : mesh.boundaryTriangles)
+  {
+    const Vector3 & a = mesh.points[triangle[0]];
+    const Vector3 & b = mesh.points[triangle[1]];
+    const Vector3 & c = mesh.points[triangle[2]];
+    const double    twiceArea = Norm(Cross(b - a, c - a));
+    // R = |ab| |bc| |ca| / (4 area). Coincident corners give 0 / 0: a NaN would drop out of the maximum and hide
+    // the degenerate triangle, which has no more a circumcircle than a collinear one (x / 0 = infinity).
+    const double circumradius = Distance(a, b) * Distance(b, c) * Distance(c, a) / (2.0 * twiceArea);
+    largest = std::isnan(circumradius) ? Infinity : std::max(largest, circumradius);
+  }
+  return largest;
+}
+
+BoundaryConsistency
+CheckBoundaryAgainstTetrahedra(const TetrahedralMesh & mesh)
+{
+  constexpr const char * caller = "CheckBoundaryAgainstTetrahedra";
+  CheckVertexIndices(caller, "tetrahedron", mesh.points, mesh.tetrahedra);
+  CheckVertexIndices(caller, "boundary triangle", mesh.points, mesh.boundaryTriangles);
+  CheckLabelCount(caller, "tetrahedronLabels", mesh.tetrahedronLabels.size(), mesh.tetrahedra.size());
+  CheckLabelCount(caller, "boundaryTriangleLabels", mesh.boundaryTriangleLabels.size(), mesh.boundaryTriangles.size());
+
+  const std::vector<FacetSide> sides = SortedFacetSides(mesh.tetrahedra);
+  BoundaryConsistency          consistency;
+  // In facet order, as the sides are: found by binary search.
+  std::vector<ExpectedBoundaryTriangle> expected;
+  for (std::size_t first = 0; first < sides.size();)
+  {
+    std::size_t end = first + 1;
+    while (end < sides.size() && sides[end].facet == sides[first].facet)
+    {
+      ++end;
+    }
+    if (end - first > 2)
+    {
+      ++consistency.overSharedFacets;
+    }
+    else
+    {
+      const FacetSide & one = sides[first];
+      const Label       oneLabel = mesh.tetrahedronLabels[one.tetrahedron];
+      const Label       otherLabel =
+        end - first == 2 ? mesh.tetrahedronLabels[sides[first + 1].tetrahedron] : BackgroundLabel;
+      if (oneLabel != otherLabel)
+      {
+        const std::array<Label, 2> labels = BoundaryLabelsBetween(oneLabel, otherLabel);
+        expected.push_back({ one.facet, labels, oneLabel == labels[0] ? &one : &sides[first + 1], false });
+      }
+    }
+    first = end;
+  }
+
+  std::size_t seen = 0;
+  for (std::size_t i = 0; i < mesh.boundaryTriangles.size(); ++i)
+  {
+    const Triangle & triangle = mesh.boundaryTriangles[i];
+    const Triangle   facet = SortedVertices(triangle);
+    const auto       found = std::lower_bound(
+      expected.begin(), expected.end(), facet, [](const ExpectedBoundaryTriangle & entry, const Triangle & key) {
+        return entry.facet < key;
+      });
+    if (found == expected.end() || found->facet != facet || found->seen)
+    {
+      ++consistency.extraTriangles;
+      continue;
+    }
+    found->seen = true;
+    ++seen;
+    if (mesh.boundaryTriangleLabels[i] != found->labels)
+    {
+      ++consistency.wrongLabels;
+      continue;
+    }
+    // The normal points away from the tetrahedron with the first label exactly when its apex is behind the
+    // triangle: (p0, p1, p2, apex) is negatively oriented. Flat counts as wrong: it points nowhere.
+    const FacetSide & inner = *found->firstLabelSide;
+    if (ExactOrientation({ { mesh.points[triangle[0]],
+                             mesh.points[triangle[1]],
+                             mesh.points[triangle[2]],
+                             mesh.points[inner.apex] } }) != CGAL::NEGATIVE &&
+        consistency.wrongOrientation++ == 0)
+    {
+      consistency.firstWronglyOriented = DescribeTriangleFacingInto(mesh, i, inner.tetrahedron);
+    }
+  }
+  consistency.missingTriangles = expected.size() - seen;
+  return consistency;
+}
+
+const char *
+VertexKindName(VertexKind kind)
+{
+  switch (kind)
+  {
+    case VertexKind::BoxFace:
+      return "box-face";
+    case VertexKind::BoxEdge:
+      return "box-edge";
+    case VertexKind::Feature:
+      return "feature";
+    case VertexKind::Free:
+      return "free";
+  }
+  return "?";
 }
 
 ShortestEdgesByKind

@@ -20,25 +20,23 @@
 
 // What the randomized GoogleTest and the libFuzzer target (fuzz/) share: running the filter on an arbitrary
 // image with arbitrary parameters, sorting its outcome into "a mesh" or one of the documented exceptions, and
-// every guarantee of ALGORITHM.md checked on the mesh the filter returned. No GoogleTest here: the fuzzer
-// aborts on a violation instead of failing a test.
+// every guarantee of ALGORITHM.md checked on the mesh the filter returned (with the measures of
+// DelaunayRefinementMeshQuality.h, on the mesh converted as the filter's tests convert it). No GoogleTest here:
+// the fuzzer aborts on a violation instead of failing a test.
 
 #include "itkDelaunayImageToMeshFilter.h"
+#include "itkDelaunayImageToMeshFilterTestHelpers.h"
 #include "DelaunayRefinementMeshQuality.h"
-#include "itkDefaultStaticMeshTraits.h"
 #include "itkImageRegionConstIteratorWithIndex.h"
 #include "itkImageRegionIteratorWithIndex.h"
-#include "itkMesh.h"
 
 #include "itkLinearInterpolateImageFunction.h"
 #include "itkNearestNeighborInterpolateImageFunction.h"
 
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -55,8 +53,8 @@ using dr::operator+;
 using dr::operator-;
 using dr::operator*;
 
-/** Double-precision points: the default itk::Mesh stores floats, which would blur the measured guarantees. */
-using MeshType = Mesh<int32_t, 3, DefaultStaticMeshTraits<int32_t, 3, 3, double, double, int32_t>>;
+/** The filter tests' double-precision output mesh: floats would blur the measured guarantees. */
+using MeshType = delaunay_image_to_mesh_test::MeshType;
 
 /** Only rounding may eat into a bound that the theory gives exactly. */
 constexpr double RoundingSlack = 1e-9;
@@ -277,23 +275,6 @@ CircumradiusOf(const std::array<dr::Vector3, 4> & corners, dr::Vector3 & center)
   return dr::Norm(offset);
 }
 
-inline const char *
-KindName(dr::VertexKind kind)
-{
-  switch (kind)
-  {
-    case dr::VertexKind::BoxFace:
-      return "box-face";
-    case dr::VertexKind::BoxEdge:
-      return "box-edge";
-    case dr::VertexKind::Feature:
-      return "feature";
-    case dr::VertexKind::Free:
-      return "free";
-  }
-  return "?";
-}
-
 /** The shortest edge of the tetrahedra with an end of kind `kind`: both ends' kinds and positions. */
 inline std::string
 DescribeShortestEdgeOf(const dr::TetrahedralMesh & mesh, dr::VertexKind kind)
@@ -322,8 +303,8 @@ DescribeShortestEdgeOf(const dr::TetrahedralMesh & mesh, dr::VertexKind kind)
   for (const uint32_t end : { ends.first, ends.second })
   {
     const dr::Vector3 & point = mesh.points[end];
-    text << (end == ends.first ? "" : " - ") << KindName(mesh.pointKinds[end]) << " vertex " << end << " (" << point[0]
-         << ", " << point[1] << ", " << point[2] << ")";
+    text << (end == ends.first ? "" : " - ") << dr::VertexKindName(mesh.pointKinds[end]) << " vertex " << end << " ("
+         << point[0] << ", " << point[1] << ", " << point[2] << ")";
   }
   return text.str();
 }
@@ -345,7 +326,8 @@ DescribeTetrahedron(const dr::TetrahedralMesh & mesh, std::size_t tetrahedron)
   for (const uint32_t corner : mesh.tetrahedra[tetrahedron])
   {
     const dr::Vector3 & point = mesh.points[corner];
-    text << " " << KindName(mesh.pointKinds[corner]) << " (" << point[0] << ", " << point[1] << ", " << point[2] << ")";
+    text << " " << dr::VertexKindName(mesh.pointKinds[corner]) << " (" << point[0] << ", " << point[1] << ", "
+         << point[2] << ")";
   }
   return text.str();
 }
@@ -502,59 +484,6 @@ CheckCircumcenterLabels(const TImage & image, const FilterSettings & settings, c
   }
 }
 
-/** The filter's two ITK outputs (tetrahedra with labels, interface triangles with GetInterfaceLabels()) as the
- * core's mesh, so that every measure is taken on what a user receives; the point kinds, which an itk::Mesh has
- * no place for, come from GetRefinedMesh(). */
-template <typename TFilter>
-dr::TetrahedralMesh
-MeshFromOutputs(TFilter & filter)
-{
-  const auto *        tetrahedra = filter.GetOutput();
-  const auto *        interfaces = filter.GetInterfaceMesh();
-  dr::TetrahedralMesh mesh;
-  for (auto point = tetrahedra->GetPoints()->Begin(); point != tetrahedra->GetPoints()->End(); ++point)
-  {
-    mesh.points.push_back({ point.Value()[0], point.Value()[1], point.Value()[2] });
-  }
-  mesh.pointKinds = filter.GetRefinedMesh().pointKinds;
-  for (auto cell = tetrahedra->GetCells()->Begin(); cell != tetrahedra->GetCells()->End(); ++cell)
-  {
-    const auto * ids = cell.Value()->GetPointIds();
-    mesh.tetrahedra.push_back({ static_cast<uint32_t>(ids[0]),
-                                static_cast<uint32_t>(ids[1]),
-                                static_cast<uint32_t>(ids[2]),
-                                static_cast<uint32_t>(ids[3]) });
-    typename TFilter::OutputMeshType::CellPixelType label{};
-    tetrahedra->GetCellData(cell.Index(), &label);
-    mesh.tetrahedronLabels.push_back(static_cast<dr::Label>(label));
-  }
-  for (auto cell = interfaces->GetCells()->Begin(); cell != interfaces->GetCells()->End(); ++cell)
-  {
-    const auto * ids = cell.Value()->GetPointIds();
-    mesh.boundaryTriangles.push_back(
-      { static_cast<uint32_t>(ids[0]), static_cast<uint32_t>(ids[1]), static_cast<uint32_t>(ids[2]) });
-  }
-  const auto & interfaceLabels = filter.GetInterfaceLabels();
-  mesh.boundaryTriangleLabels.assign(interfaceLabels.begin(), interfaceLabels.end());
-  return mesh;
-}
-
-/** Largest circumradius of the boundary triangles. Each lies in its surface ball, whose radius R3 keeps < δ. */
-inline double
-LargestBoundaryCircumradius(const dr::TetrahedralMesh & mesh)
-{
-  double largest = 0.0;
-  for (const auto & triangle : mesh.boundaryTriangles)
-  {
-    const dr::Vector3 & a = mesh.points[triangle[0]];
-    const dr::Vector3 & b = mesh.points[triangle[1]];
-    const dr::Vector3 & c = mesh.points[triangle[2]];
-    const double        twiceArea = dr::Norm(dr::Cross(b - a, c - a));
-    largest = std::max(largest, dr::Distance(a, b) * dr::Distance(b, c) * dr::Distance(c, a) / (2.0 * twiceArea));
-  }
-  return largest;
-}
-
 /** Well-formed tetrahedra, every point used and finite. */
 inline void
 CheckWellFormed(const dr::TetrahedralMesh & mesh, const dr::TetrahedronQuality & quality, ViolationList & violations)
@@ -608,7 +537,7 @@ CheckBoundaryGuarantees(const dr::TetrahedralMesh & mesh, double delta, double f
   {
     violations.Add("smallest boundary planar angle ", boundary.minimumPlanarAngle, " deg <= 30 deg");
   }
-  const double largestCircumradius = LargestBoundaryCircumradius(mesh);
+  const double largestCircumradius = dr::LargestBoundaryCircumradius(mesh);
   if (!(largestCircumradius < delta))
   {
     violations.Add("largest boundary triangle circumradius ", largestCircumradius, " >= delta ", delta);
@@ -646,8 +575,8 @@ CheckBoundaryGuarantees(const dr::TetrahedralMesh & mesh, double delta, double f
       {
         std::ostringstream text;
         text.precision(17);
-        text << KindName(mesh.pointKinds[vertex]) << " vertex " << vertex << " (" << mesh.points[vertex][0] << ", "
-             << mesh.points[vertex][1] << ", " << mesh.points[vertex][2] << ")";
+        text << dr::VertexKindName(mesh.pointKinds[vertex]) << " vertex " << vertex << " (" << mesh.points[vertex][0]
+             << ", " << mesh.points[vertex][1] << ", " << mesh.points[vertex][2] << ")";
         firstNonFeatureCorner = text.str();
       }
     }
@@ -658,119 +587,6 @@ CheckBoundaryGuarantees(const dr::TetrahedralMesh & mesh, double delta, double f
                    " boundary triangle corners are not feature vertices (rho >= 2), the first a ",
                    firstNonFeatureCorner);
   }
-}
-
-/** The boundary that the tetrahedra and their labels imply, compared with the mesh's boundary triangles. */
-struct BoundaryConsistency
-{
-  /** Facets between different labels (or on the hull of the mesh) that are not boundary triangles. */
-  std::size_t missingTriangles{ 0 };
-  /** Boundary triangles that are no such facet, or that appear twice. */
-  std::size_t extraTriangles{ 0 };
-  /** Boundary triangles whose label pair is not {label of its tetrahedron, label on the other side}. */
-  std::size_t wrongLabels{ 0 };
-  /** Boundary triangles whose normal does not point away from the tetrahedron carrying the first label. */
-  std::size_t wrongOrientation{ 0 };
-  /** Facets of more than two tetrahedra: the tetrahedra overlap. */
-  std::size_t overSharedFacets{ 0 };
-  /** The first wrongly oriented triangle, for a report. */
-  std::string firstWronglyOriented;
-
-  bool
-  IsConsistent() const
-  {
-    return missingTriangles == 0 && extraTriangles == 0 && wrongLabels == 0 && wrongOrientation == 0 &&
-           overSharedFacets == 0;
-  }
-};
-
-/** Which side of the plane of `triangle` the point `apex` is on, decided exactly (CGAL's predicate), as the
- * mesher decides the orientation of its tetrahedra: voxel data make tetrahedra flat to rounding, on which a
- * floating-point sign is a coin toss. */
-inline CGAL::Orientation
-ExactOrientation(const dr::Vector3 & a, const dr::Vector3 & b, const dr::Vector3 & c, const dr::Vector3 & apex)
-{
-  using Point = CGAL::Exact_predicates_inexact_constructions_kernel::Point_3;
-  return CGAL::orientation(
-    Point(a[0], a[1], a[2]), Point(b[0], b[1], b[2]), Point(c[0], c[1], c[2]), Point(apex[0], apex[1], apex[2]));
-}
-
-/** TetrahedralMesh's promise: every facet between different labels, once, oriented away from its first label;
- * a tissue/background facet has the tissue first, a tissue/tissue facet the smaller label first. */
-inline BoundaryConsistency
-CheckBoundaryAgainstTetrahedra(const dr::TetrahedralMesh & mesh)
-{
-  using Triangle = std::array<uint32_t, 3>;
-  const auto sorted = [](Triangle triangle) {
-    std::sort(triangle.begin(), triangle.end());
-    return triangle;
-  };
-  std::map<Triangle, std::vector<std::pair<std::size_t, uint32_t>>> sides;
-  for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
-  {
-    const auto & v = mesh.tetrahedra[t];
-    for (int apex = 0; apex < 4; ++apex)
-    {
-      sides[sorted({ v[(apex + 1) % 4], v[(apex + 2) % 4], v[(apex + 3) % 4] })].emplace_back(t, v[apex]);
-    }
-  }
-  BoundaryConsistency                          consistency;
-  std::map<Triangle, std::array<dr::Label, 2>> expectedLabels;
-  for (const auto & [facet, facetSides] : sides)
-  {
-    if (facetSides.size() > 2)
-    {
-      ++consistency.overSharedFacets;
-      continue;
-    }
-    const dr::Label first = mesh.tetrahedronLabels[facetSides[0].first];
-    const dr::Label second = facetSides.size() == 2 ? mesh.tetrahedronLabels[facetSides[1].first] : dr::BackgroundLabel;
-    if (first != second)
-    {
-      expectedLabels[facet] = second == dr::BackgroundLabel
-                                ? std::array<dr::Label, 2>{ first, second }
-                                : std::array<dr::Label, 2>{ std::min(first, second), std::max(first, second) };
-    }
-  }
-  std::set<Triangle> seen;
-  for (std::size_t i = 0; i < mesh.boundaryTriangles.size(); ++i)
-  {
-    const Triangle & triangle = mesh.boundaryTriangles[i];
-    const Triangle   key = sorted(triangle);
-    const auto       expected = expectedLabels.find(key);
-    if (expected == expectedLabels.end() || !seen.insert(key).second)
-    {
-      ++consistency.extraTriangles;
-      continue;
-    }
-    if (mesh.boundaryTriangleLabels[i] != expected->second)
-    {
-      ++consistency.wrongLabels;
-      continue;
-    }
-    for (const auto & [tetrahedron, apex] : sides[key])
-    {
-      if (mesh.tetrahedronLabels[tetrahedron] == expected->second[0] &&
-          ExactOrientation(
-            mesh.points[triangle[0]], mesh.points[triangle[1]], mesh.points[triangle[2]], mesh.points[apex]) !=
-            CGAL::NEGATIVE &&
-          consistency.wrongOrientation++ == 0)
-      {
-        std::ostringstream text;
-        text.precision(17);
-        text << "boundary triangle " << i << " (";
-        for (const uint32_t corner : triangle)
-        {
-          text << " (" << mesh.points[corner][0] << ", " << mesh.points[corner][1] << ", " << mesh.points[corner][2]
-               << ")";
-        }
-        text << " ) faces into " << DescribeTetrahedron(mesh, tetrahedron);
-        consistency.firstWronglyOriented = text.str();
-      }
-    }
-  }
-  consistency.missingTriangles = expectedLabels.size() - seen.size();
-  return consistency;
 }
 
 /** Every tetrahedron carries a tissue label of the image; every boundary triangle has a tissue first and a
@@ -801,7 +617,7 @@ CheckLabels(const dr::TetrahedralMesh & mesh, const std::set<dr::Label> & tissue
       break;
     }
   }
-  const BoundaryConsistency consistency = CheckBoundaryAgainstTetrahedra(mesh);
+  const dr::BoundaryConsistency consistency = dr::CheckBoundaryAgainstTetrahedra(mesh);
   if (!consistency.IsConsistent())
   {
     violations.Add("boundary triangles disagree with the tetrahedra: missing ",
@@ -847,7 +663,7 @@ void
 CheckGuarantees(TFilter & filter, const TImage & image, const FilterSettings & settings, RunResult & result)
 {
   ViolationList                violations;
-  const dr::TetrahedralMesh    mesh = MeshFromOutputs(filter);
+  const dr::TetrahedralMesh    mesh = delaunay_image_to_mesh_test::TetrahedralMeshFromOutputs(filter);
   const double                 delta = filter.GetEffectiveSurfaceSamplingDistance();
   const double                 rho = filter.GetRadiusEdgeBound();
   const double                 sigma = filter.GetMinimumDihedralAngle();

@@ -39,7 +39,6 @@
 #include <sstream>
 #include <string>
 #include <tuple>
-#include <unordered_map>
 #include <vector>
 
 namespace delaunay_refinement
@@ -120,112 +119,14 @@ ParametersOf(double delta, double rho, double sigma = 0.0)
   return parameters;
 }
 
-/** Result of the facet-by-facet comparison of the boundary triangles with the tetrahedra. */
-struct BoundaryConsistency
-{
-  /** Facets whose two sides differ (or with one side outside the mesh) but that are not boundary triangles. */
-  std::size_t missingTriangles{ 0 };
-  /** Boundary triangles that are not such a facet (or appear twice). */
-  std::size_t extraTriangles{ 0 };
-  std::size_t wrongLabels{ 0 };
-  /** Boundary triangles whose normal does not point away from the side labelled boundaryTriangleLabels[i][0]. */
-  std::size_t wrongOrientation{ 0 };
-  /** Facets shared by more than two tetrahedra: the tetrahedra overlap. */
-  std::size_t overSharedFacets{ 0 };
-};
-
+/** A triangle's vertices in ascending order: the same facet whichever tetrahedron or triangle names it. */
 using SortedTriangle = std::array<uint32_t, 3>;
-
-struct SortedTriangleHash
-{
-  std::size_t
-  operator()(const SortedTriangle & t) const
-  {
-    return (static_cast<std::size_t>(t[0]) * 73856093u) ^ (static_cast<std::size_t>(t[1]) * 19349663u) ^
-           (static_cast<std::size_t>(t[2]) * 83492791u);
-  }
-};
 
 SortedTriangle
 Sorted(SortedTriangle triangle)
 {
   std::sort(triangle.begin(), triangle.end());
   return triangle;
-}
-
-/** A tetrahedron seen from one of its facets: which tetrahedron, and its vertex off the facet. */
-struct FacetSide
-{
-  std::size_t tetrahedron;
-  uint32_t    apex;
-};
-
-/** The boundary that the tetrahedra and their labels imply, compared with the mesh's boundary triangles: the
- * header promises every facet between different labels, once, oriented away from its first label, with the
- * smaller tissue label first (background last). */
-BoundaryConsistency
-CheckBoundaryAgainstTetrahedra(const TetrahedralMesh & mesh)
-{
-  std::unordered_map<SortedTriangle, std::vector<FacetSide>, SortedTriangleHash> sidesOfFacet;
-  for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
-  {
-    const auto & v = mesh.tetrahedra[t];
-    for (int apex = 0; apex < 4; ++apex)
-    {
-      sidesOfFacet[Sorted({ { v[(apex + 1) % 4], v[(apex + 2) % 4], v[(apex + 3) % 4] } })].push_back({ t, v[apex] });
-    }
-  }
-
-  BoundaryConsistency                            consistency;
-  std::map<SortedTriangle, std::array<Label, 2>> expectedLabels;
-  for (const auto & entry : sidesOfFacet)
-  {
-    const std::vector<FacetSide> & sides = entry.second;
-    if (sides.size() > 2)
-    {
-      ++consistency.overSharedFacets;
-      continue;
-    }
-    const Label first = mesh.tetrahedronLabels[sides[0].tetrahedron];
-    const Label second = sides.size() == 2 ? mesh.tetrahedronLabels[sides[1].tetrahedron] : BackgroundLabel;
-    if (first != second)
-    {
-      expectedLabels[entry.first] = second == BackgroundLabel
-                                      ? std::array<Label, 2>{ { first, second } }
-                                      : std::array<Label, 2>{ { std::min(first, second), std::max(first, second) } };
-    }
-  }
-
-  std::set<SortedTriangle> seen;
-  for (std::size_t i = 0; i < mesh.boundaryTriangles.size(); ++i)
-  {
-    const SortedTriangle key = Sorted(mesh.boundaryTriangles[i]);
-    const auto           expected = expectedLabels.find(key);
-    if (expected == expectedLabels.end() || !seen.insert(key).second)
-    {
-      ++consistency.extraTriangles;
-      continue;
-    }
-    if (mesh.boundaryTriangleLabels[i] != expected->second)
-    {
-      ++consistency.wrongLabels;
-      continue;
-    }
-    // The normal must point away from the tetrahedron that carries the first label: its apex is behind.
-    const auto &    triangle = mesh.boundaryTriangles[i];
-    const Vector3 & p0 = mesh.points[triangle[0]];
-    const Vector3   normal = Cross(mesh.points[triangle[1]] - p0, mesh.points[triangle[2]] - p0);
-    for (const FacetSide & side : sidesOfFacet[key])
-    {
-      if (mesh.tetrahedronLabels[side.tetrahedron] == expected->second[0] &&
-          !(Dot(normal, mesh.points[side.apex] - p0) < 0.0))
-      {
-        ++consistency.wrongOrientation;
-      }
-    }
-  }
-  consistency.missingTriangles = expectedLabels.size() - seen.size();
-  return consistency;
 }
 
 /** A refined mesh and every measure the guarantees are checked on. */

@@ -18,10 +18,11 @@
 #ifndef itkDelaunayImageToMeshFilterTestHelpers_h
 #define itkDelaunayImageToMeshFilterTestHelpers_h
 
-// What the filter's driver tests and GoogleTests share: test images, the conversion of the filter's ITK
-// outputs back to the core's mesh (so that every measure of DelaunayRefinementMeshQuality.h is taken on what
-// a user receives), a facet-by-facet check of the boundary against the tetrahedra, and the mesh invariants
-// that the regression baselines store. No GoogleTest here: the driver tests include it too.
+// What the filter's driver tests, GoogleTests and randomized checks share: test images, the conversion of the
+// filter's ITK outputs back to the core's mesh (so that every measure of DelaunayRefinementMeshQuality.h, the
+// facet-by-facet check of the boundary against the tetrahedra among them, is taken on what a user receives),
+// and the mesh invariants that the regression baselines store. No GoogleTest here: the driver tests and the
+// fuzzer include it too.
 
 #include "DelaunayImageToMeshSurfaceExtraction.h"
 #include "DelaunayRefinementMeshQuality.h"
@@ -31,7 +32,6 @@
 #include "itkImageRegionIteratorWithIndex.h"
 #include "itkMesh.h"
 
-#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <fstream>
@@ -53,6 +53,10 @@ namespace dr = delaunay_refinement;
 using dr::operator+;
 using dr::operator-;
 using dr::operator*;
+// The library's boundary measures, by the names the filter's tests have always called them.
+using dr::BoundaryConsistency;
+using dr::CheckBoundaryAgainstTetrahedra;
+using dr::LargestBoundaryCircumradius;
 
 /** Double-precision points: the default itk::Mesh stores floats, which would blur the measured guarantees. */
 using MeshType = Mesh<int32_t, 3, DefaultStaticMeshTraits<int32_t, 3, 3, double, double, int32_t>>;
@@ -199,132 +203,6 @@ TetrahedralMeshFromOutputs(TFilter & filter)
   return mesh;
 }
 
-/** The boundary the tetrahedra and their labels imply, compared with the mesh's boundary triangles. */
-struct BoundaryConsistency
-{
-  /** Facets between different labels (or on the hull of the mesh) that are not boundary triangles. */
-  std::size_t missingTriangles{ 0 };
-  /** Boundary triangles that are no such facet, or that appear twice. */
-  std::size_t extraTriangles{ 0 };
-  /** Boundary triangles whose label pair is not {label of its tetrahedron, label on the other side}. */
-  std::size_t wrongLabels{ 0 };
-  /** Boundary triangles whose normal does not point away from the tetrahedron carrying the first label. */
-  std::size_t wrongOrientation{ 0 };
-  /** Facets of more than two tetrahedra: the tetrahedra overlap. */
-  std::size_t overSharedFacets{ 0 };
-
-  bool
-  IsConsistent() const
-  {
-    return missingTriangles == 0 && extraTriangles == 0 && wrongLabels == 0 && wrongOrientation == 0 &&
-           overSharedFacets == 0;
-  }
-};
-
-using SortedTriangle = std::array<uint32_t, 3>;
-
-inline SortedTriangle
-Sorted(SortedTriangle triangle)
-{
-  std::sort(triangle.begin(), triangle.end());
-  return triangle;
-}
-
-/** A facet of a tetrahedron: its sorted vertices, the tetrahedron, and the tetrahedron's vertex off the facet. */
-struct FacetSide
-{
-  SortedTriangle facet;
-  std::size_t    tetrahedron;
-  uint32_t       apex;
-
-  bool
-  operator<(const FacetSide & other) const
-  {
-    return facet < other.facet;
-  }
-};
-
-/** Every facet of every tetrahedron, sorted so that the sides of a facet are adjacent. */
-inline std::vector<FacetSide>
-SortedFacetSides(const dr::TetrahedralMesh & mesh)
-{
-  std::vector<FacetSide> sides;
-  sides.reserve(4 * mesh.tetrahedra.size());
-  for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
-  {
-    const auto & v = mesh.tetrahedra[t];
-    for (int apex = 0; apex < 4; ++apex)
-    {
-      sides.push_back({ Sorted({ { v[(apex + 1) % 4], v[(apex + 2) % 4], v[(apex + 3) % 4] } }), t, v[apex] });
-    }
-  }
-  std::sort(sides.begin(), sides.end());
-  return sides;
-}
-
-/** TetrahedralMesh's promise: every facet between different labels, once, oriented away from its first label;
- * a tissue/background facet has the tissue first, a tissue/tissue facet the smaller label first. */
-inline BoundaryConsistency
-CheckBoundaryAgainstTetrahedra(const dr::TetrahedralMesh & mesh)
-{
-  const std::vector<FacetSide> sides = SortedFacetSides(mesh);
-  BoundaryConsistency          consistency;
-  /** For each facet between different labels: the label pair, and the side that carries the first label. */
-  std::map<SortedTriangle, std::pair<std::array<dr::Label, 2>, const FacetSide *>> expected;
-  for (std::size_t first = 0; first < sides.size();)
-  {
-    std::size_t end = first + 1;
-    while (end < sides.size() && sides[end].facet == sides[first].facet)
-    {
-      ++end;
-    }
-    if (end - first > 2)
-    {
-      ++consistency.overSharedFacets;
-    }
-    else
-    {
-      const FacetSide & one = sides[first];
-      const dr::Label   label = mesh.tetrahedronLabels[one.tetrahedron];
-      const dr::Label   other =
-        end - first == 2 ? mesh.tetrahedronLabels[sides[first + 1].tetrahedron] : dr::BackgroundLabel;
-      if (label != other)
-      {
-        const bool        oneFirst = other == dr::BackgroundLabel || label < other;
-        const FacetSide & inner = oneFirst ? one : sides[first + 1];
-        expected[one.facet] = { { { mesh.tetrahedronLabels[inner.tetrahedron], oneFirst ? other : label } }, &inner };
-      }
-    }
-    first = end;
-  }
-  std::set<SortedTriangle> seen;
-  for (std::size_t i = 0; i < mesh.boundaryTriangles.size(); ++i)
-  {
-    const SortedTriangle key = Sorted(mesh.boundaryTriangles[i]);
-    const auto           found = expected.find(key);
-    if (found == expected.end() || !seen.insert(key).second)
-    {
-      ++consistency.extraTriangles;
-      continue;
-    }
-    if (mesh.boundaryTriangleLabels[i] != found->second.first)
-    {
-      ++consistency.wrongLabels;
-      continue;
-    }
-    // The normal must point away from the tetrahedron with the first label: its apex lies behind the triangle.
-    const auto &        triangle = mesh.boundaryTriangles[i];
-    const dr::Vector3 & p0 = mesh.points[triangle[0]];
-    const dr::Vector3   normal = dr::Cross(mesh.points[triangle[1]] - p0, mesh.points[triangle[2]] - p0);
-    if (!(dr::Dot(normal, mesh.points[found->second.second->apex] - p0) < 0.0))
-    {
-      ++consistency.wrongOrientation;
-    }
-  }
-  consistency.missingTriangles = expected.size() - seen.size();
-  return consistency;
-}
-
 /** The triangles of the boundary whose label pair passes `keep`. */
 inline std::vector<std::array<uint32_t, 3>>
 BoundaryTrianglesWhere(const dr::TetrahedralMesh &                                   mesh,
@@ -339,22 +217,6 @@ BoundaryTrianglesWhere(const dr::TetrahedralMesh &                              
     }
   }
   return triangles;
-}
-
-/** Largest circumradius of the boundary triangles. Each lies in its surface ball, whose radius R3 keeps below δ. */
-inline double
-LargestBoundaryCircumradius(const dr::TetrahedralMesh & mesh)
-{
-  double largest = 0.0;
-  for (const auto & triangle : mesh.boundaryTriangles)
-  {
-    const dr::Vector3 & a = mesh.points[triangle[0]];
-    const dr::Vector3 & b = mesh.points[triangle[1]];
-    const dr::Vector3 & c = mesh.points[triangle[2]];
-    const double        twiceArea = dr::Norm(dr::Cross(b - a, c - a));
-    largest = std::max(largest, dr::Distance(a, b) * dr::Distance(b, c) * dr::Distance(c, a) / (2.0 * twiceArea));
-  }
-  return largest;
 }
 
 /** Volume-weighted centroid of the tetrahedra. */
