@@ -225,14 +225,15 @@ public:
   }
 
   /** Halves the sampling distance around `point`, but not below `finest`; its zone covers the facets around
-   * it. */
-  void
+   * it. Returns the zone's radius: outside it nothing changed. */
+  double
   Refine(const Vector3 & point, double finest)
   {
     const double delta = std::max(0.5 * LocalDelta(point), finest);
     const double radius = ZoneRadiusFactor * 2.0 * delta;
     m_ZoneCenters.Insert(point, m_Zones.size());
     m_Zones.push_back({ point, radius * radius, delta });
+    return radius;
   }
 
   std::size_t
@@ -1046,21 +1047,20 @@ private:
     NonManifoldPlaces places = FindNonManifoldPlaces();
     while (!places.points.empty() && IsRepairable(places))
     {
-      std::size_t refinedZones = 0;
+      std::vector<Ball> newZones;
       for (const Vector3 & point : places.points)
       {
         if (m_Sizing.LocalDelta(point) > finestDelta * (1.0 + 1e-12))
         {
-          m_Sizing.Refine(point, finestDelta);
-          ++refinedZones;
+          newZones.push_back({ point, m_Sizing.Refine(point, finestDelta) });
         }
       }
-      if (refinedZones == 0)
+      if (newZones.empty())
       {
         break;
       }
       ++m_Statistics.manifoldRefinementRounds;
-      EnqueueAllCells();
+      EnqueueCellsAffectedBy(newZones);
       RefineUntilNoRuleApplies();
       places = FindNonManifoldPlaces();
     }
@@ -1069,10 +1069,42 @@ private:
     m_Statistics.remainingNonManifoldVertices = places.points.size();
   }
 
-  void
-  EnqueueAllCells()
+  struct Ball
   {
+    Vector3 center;
+    double  radius;
+  };
+
+  /** After the refinement ran out of work, only rules evaluated with a local δ that changed can apply again:
+   * R1 at the surface point closest to a circumcentre (inside the circumball), R2 at the circumcentre, R3 at a
+   * surface-ball centre on the Voronoi edge between two circumcentres (inside the union of the two
+   * circumballs). So the cells whose circumball meets a new zone, and their neighbours, are all that need
+   * another look; the rest of the mesh is not walked again. */
+  void
+  EnqueueCellsAffectedBy(const std::vector<Ball> & zones)
+  {
+    std::vector<CellHandle> affected;
     for (auto cell = m_Triangulation.finite_cells_begin(); cell != m_Triangulation.finite_cells_end(); ++cell)
+    {
+      const double radius = std::sqrt(cell->cache.squaredRadius);
+      const bool   touched = std::any_of(zones.begin(), zones.end(), [&](const Ball & zone) {
+        return Distance(cell->cache.circumcenter, zone.center) < radius + zone.radius;
+      });
+      if (touched)
+      {
+        affected.push_back(cell);
+        for (int facet = 0; facet < 4; ++facet)
+        {
+          if (!m_Triangulation.is_infinite(cell->neighbor(facet)))
+          {
+            affected.push_back(cell->neighbor(facet));
+          }
+        }
+      }
+    }
+    std::sort(affected.begin(), affected.end());
+    affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
+    for (const CellHandle cell : affected)
     {
       Enqueue(cell);
     }
