@@ -16,5 +16,5 @@ if [ -f "$itk_python_cache/build-complete" ]; then
   echo "== Running the Python tests against the ITK Python build in $itk_python_cache"
   bash "$repository/scripts/build-itk-python.sh"
 else
-  echo "== Skipping the Python tests: no finished ITK Python build at $itk_python_cache (make one with scripts/build-itk-python.sh, about an hour)"
+  echo "== Skipping the Python tests: no finished ITK Python build at $itk_python_cache (make one with scripts/build-itk-python.sh: hours the first time)"
 fi
