@@ -262,34 +262,14 @@ template <typename TImage>
 typename TImage::Pointer
 MakeImage(const DecodedInput & input, const std::function<typename TImage::PixelType(std::size_t)> & pixelOf)
 {
-  auto                           image = TImage::New();
-  typename TImage::SizeType      size;
-  typename TImage::IndexType     start;
-  typename TImage::SpacingType   spacing;
-  typename TImage::PointType     origin;
-  typename TImage::DirectionType direction;
+  std::array<itk::SizeValueType, 3>  size{};
+  std::array<itk::IndexValueType, 3> start{};
   for (unsigned int axis = 0; axis < 3; ++axis)
   {
     size[axis] = input.size[axis];
     start[axis] = (input.flags & ShiftRegionStart) != 0 ? -3 + static_cast<int>(axis) : 0;
-    spacing[axis] = input.spacing[axis];
-    origin[axis] = input.origin[axis];
-    for (unsigned int column = 0; column < 3; ++column)
-    {
-      direction[axis][column] = input.direction[axis][column];
-    }
   }
-  image->SetRegions(typename TImage::RegionType(start, size));
-  image->SetSpacing(spacing);
-  image->SetOrigin(origin);
-  image->SetDirection(direction);
-  image->Allocate();
-  std::size_t voxel = 0;
-  for (itk::ImageRegionIteratorWithIndex<TImage> it(image, image->GetBufferedRegion()); !it.IsAtEnd(); ++it)
-  {
-    it.Set(pixelOf(voxel++));
-  }
-  return image;
+  return MakeImageInSpace<TImage>(size, start, input.spacing, input.origin, input.direction, pixelOf);
 }
 
 bool

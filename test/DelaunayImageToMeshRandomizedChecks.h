@@ -34,6 +34,7 @@
 #include "itkNearestNeighborInterpolateImageFunction.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -55,6 +56,44 @@ using dr::operator*;
 
 /** The filter tests' double-precision output mesh: floats would blur the measured guarantees. */
 using MeshType = delaunay_image_to_mesh_test::MeshType;
+
+/** An image in the given physical space, voxel `i` (x fastest) set to pixelOf(i): the randomized cases and the
+ * fuzzer's inputs describe their images the same way. */
+template <typename TImage, typename TPixelOf>
+typename TImage::Pointer
+MakeImageInSpace(const std::array<SizeValueType, 3> & size, const std::array<IndexValueType, 3> & start,
+                 const std::array<double, 3> & spacing, const std::array<double, 3> & origin,
+                 const std::array<std::array<double, 3>, 3> & direction, TPixelOf && pixelOf)
+{
+  auto                           image = TImage::New();
+  typename TImage::SizeType      itkSize;
+  typename TImage::IndexType     itkStart;
+  typename TImage::SpacingType   itkSpacing;
+  typename TImage::PointType     itkOrigin;
+  typename TImage::DirectionType itkDirection;
+  for (unsigned int axis = 0; axis < 3; ++axis)
+  {
+    itkSize[axis] = size[axis];
+    itkStart[axis] = start[axis];
+    itkSpacing[axis] = spacing[axis];
+    itkOrigin[axis] = origin[axis];
+    for (unsigned int column = 0; column < 3; ++column)
+    {
+      itkDirection[axis][column] = direction[axis][column];
+    }
+  }
+  image->SetRegions(typename TImage::RegionType(itkStart, itkSize));
+  image->SetSpacing(itkSpacing);
+  image->SetOrigin(itkOrigin);
+  image->SetDirection(itkDirection);
+  image->Allocate();
+  std::size_t voxel = 0;
+  for (ImageRegionIteratorWithIndex<TImage> it(image, image->GetBufferedRegion()); !it.IsAtEnd(); ++it)
+  {
+    it.Set(pixelOf(voxel++));
+  }
+  return image;
+}
 
 /** Only rounding may eat into a bound that the theory gives exactly. */
 constexpr double RoundingSlack = 1e-9;

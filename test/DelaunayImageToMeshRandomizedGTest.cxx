@@ -682,35 +682,19 @@ template <typename TImage>
 typename TImage::Pointer
 MakeImage(const RandomCase & randomCase, const std::function<typename TImage::PixelType(int)> & toPixel)
 {
-  auto                           image = TImage::New();
-  typename TImage::SizeType      size;
-  typename TImage::IndexType     start;
-  typename TImage::SpacingType   spacing;
-  typename TImage::PointType     origin;
-  typename TImage::DirectionType direction;
+  std::array<itk::SizeValueType, 3>  size{};
+  std::array<itk::IndexValueType, 3> start{};
   for (unsigned int axis = 0; axis < 3; ++axis)
   {
     size[axis] = static_cast<itk::SizeValueType>(randomCase.canvas.size[axis]);
     // A non-zero region start: the index must not be assumed to begin at 0.
     start[axis] = static_cast<itk::IndexValueType>(randomCase.seed % 3) - 1;
-    spacing[axis] = randomCase.geometry.spacing[axis];
-    origin[axis] = randomCase.geometry.origin[axis];
-    for (unsigned int column = 0; column < 3; ++column)
-    {
-      direction[axis][column] = randomCase.geometry.direction[axis][column];
-    }
   }
-  image->SetRegions(typename TImage::RegionType(start, size));
-  image->SetSpacing(spacing);
-  image->SetOrigin(origin);
-  image->SetDirection(direction);
-  image->Allocate();
-  std::size_t voxel = 0;
-  for (itk::ImageRegionIteratorWithIndex<TImage> it(image, image->GetBufferedRegion()); !it.IsAtEnd(); ++it)
-  {
-    it.Set(toPixel(randomCase.canvas.labels[voxel++]));
-  }
-  return image;
+  const Geometry & geometry = randomCase.geometry;
+  return MakeImageInSpace<TImage>(
+    size, start, geometry.spacing, geometry.origin, geometry.direction, [&](std::size_t voxel) {
+      return toPixel(randomCase.canvas.labels[voxel]);
+    });
 }
 
 /** A lower bound on the largest distance from an object voxel centre to the surface: to any voxel of another
