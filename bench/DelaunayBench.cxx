@@ -63,20 +63,25 @@ struct Options
   /** 0 = the default: 3, or 1 with --quick. */
   int                      runs{ 0 };
   std::vector<std::string> imageNames;
-  std::string              dataDirectory{ DefaultDataDirectory };
+  /** Empty = each image's own list. */
+  std::vector<double> deltas;
+  std::string         dataDirectory{ DefaultDataDirectory };
 };
 
 void
 PrintUsage()
 {
-  std::cerr << "usage: delaunay-bench [--quick] [--runs N] [--images NAME[,NAME...]] [--ours-only] [--data-dir DIR]\n"
-               "  --quick      a short run: the small and the 2-3 mm images, one delta each, one run\n"
-               "  --runs N     timed runs per mesher, the median is reported (default 3; 1 with --quick)\n"
-               "  --images     only these images (sphere-64, torus-64, sphere-128, torus-128, brain-mask,\n"
-               "               kmeans-tissues, brain-mask-1mm)\n"
-               "  --ours-only  run our filter only (for profiling)\n"
-               "  --data-dir   where ITK's example images are (default "
-            << DefaultDataDirectory << ")\n";
+  std::cerr
+    << "usage: delaunay-bench [--quick] [--runs N] [--images NAME[,NAME...]] [--deltas D[,D...]] [--ours-only]\n"
+       "                      [--data-dir DIR]\n"
+       "  --quick      a short run: the small and the 2-3 mm images, one delta each, one run\n"
+       "  --runs N     timed runs per mesher, the median is reported (default 3; 1 with --quick)\n"
+       "  --images     only these images (sphere-64, torus-64, sphere-128, torus-128, brain-mask,\n"
+       "               kmeans-tissues, brain-mask-1mm)\n"
+       "  --deltas     these delta values (mm) for every selected image instead of each image's own\n"
+       "  --ours-only  run our filter only (for profiling)\n"
+       "  --data-dir   where ITK's example images are (default "
+    << DefaultDataDirectory << ")\n";
 }
 
 std::vector<std::string>
@@ -115,6 +120,13 @@ ParseOptions(int argc, char * argv[])
     {
       options.imageNames = SplitAtCommas(argv[++i]);
     }
+    else if (argument == "--deltas" && hasValue)
+    {
+      for (const std::string & delta : SplitAtCommas(argv[++i]))
+      {
+        options.deltas.push_back(std::atof(delta.c_str()));
+      }
+    }
     else if (argument == "--data-dir" && hasValue)
     {
       options.dataDirectory = argv[++i];
@@ -128,7 +140,9 @@ ParseOptions(int argc, char * argv[])
   {
     options.runs = options.quick ? 1 : 3;
   }
-  if (options.runs < 1)
+  const bool positiveDeltas =
+    std::all_of(options.deltas.begin(), options.deltas.end(), [](double delta) { return delta > 0.0; });
+  if (options.runs < 1 || !positiveDeltas)
   {
     return std::nullopt;
   }
@@ -156,36 +170,64 @@ struct MesherRow
   dr::TetrahedralMesh mesh;
 };
 
-MesherRow
-MeasureMesher(const std::string & mesher, int runs, const std::function<MesherOutput()> & run,
-              const dr::LabelVolume & volume)
+/** The runs of one mesher, collected one at a time so that the meshers' runs can alternate. */
+class MesherRuns
 {
-  std::vector<double> totalSeconds;
-  std::vector<double> totalCpuSeconds;
-  std::vector<double> refinementSeconds;
-  std::vector<double> refinementCpuSeconds;
-  std::vector<double> memoryBytes;
-  MesherRow           row;
-  row.mesher = mesher;
-  for (int i = 0; i < runs; ++i)
+public:
+  MesherRuns(std::string mesher, std::function<MesherOutput()> run)
+    : m_Run(std::move(run))
   {
-    MeasuredRun measured = RunInChildProcess(run);
-    totalSeconds.push_back(measured.output.totalSeconds);
-    totalCpuSeconds.push_back(measured.output.totalCpuSeconds);
-    refinementSeconds.push_back(measured.output.refinementSeconds);
-    refinementCpuSeconds.push_back(measured.output.refinementCpuSeconds);
-    memoryBytes.push_back(static_cast<double>(measured.meshingMemoryBytes));
-    row.mesh = std::move(measured.output.mesh);
+    m_Row.mesher = std::move(mesher);
   }
-  row.totalSeconds = Median(totalSeconds);
-  row.totalCpuSeconds = Median(totalCpuSeconds);
-  row.refinementSeconds = Median(refinementSeconds);
-  row.refinementCpuSeconds = Median(refinementCpuSeconds);
-  row.memoryBytes = Median(memoryBytes);
-  row.quality = dr::ComputeQualityReport(row.mesh, volume);
-  std::cerr << "  " << mesher << ": " << row.totalSeconds << " s, " << row.mesh.tetrahedra.size() << " tetrahedra\n";
-  return row;
-}
+
+  void
+  RunOnce()
+  {
+    MeasuredRun measured = RunInChildProcess(m_Run);
+    m_TotalSeconds.push_back(measured.output.totalSeconds);
+    m_TotalCpuSeconds.push_back(measured.output.totalCpuSeconds);
+    m_RefinementSeconds.push_back(measured.output.refinementSeconds);
+    m_RefinementCpuSeconds.push_back(measured.output.refinementCpuSeconds);
+    m_MemoryBytes.push_back(static_cast<double>(measured.meshingMemoryBytes));
+    m_Row.mesh = std::move(measured.output.mesh);
+  }
+
+  /** The quality of the mesh, which is the same in every run: computed once. */
+  const dr::QualityReport &
+  Quality(const dr::LabelVolume & volume)
+  {
+    if (!m_QualityComputed)
+    {
+      m_Row.quality = dr::ComputeQualityReport(m_Row.mesh, volume);
+      m_QualityComputed = true;
+    }
+    return m_Row.quality;
+  }
+
+  MesherRow
+  Finish(const dr::LabelVolume & volume)
+  {
+    m_Row.totalSeconds = Median(m_TotalSeconds);
+    m_Row.totalCpuSeconds = Median(m_TotalCpuSeconds);
+    m_Row.refinementSeconds = Median(m_RefinementSeconds);
+    m_Row.refinementCpuSeconds = Median(m_RefinementCpuSeconds);
+    m_Row.memoryBytes = Median(m_MemoryBytes);
+    Quality(volume);
+    std::cerr << "  " << m_Row.mesher << ": " << m_Row.totalSeconds << " s, " << m_Row.mesh.tetrahedra.size()
+              << " tetrahedra\n";
+    return std::move(m_Row);
+  }
+
+private:
+  std::function<MesherOutput()> m_Run;
+  MesherRow                     m_Row;
+  std::vector<double>           m_TotalSeconds;
+  std::vector<double>           m_TotalCpuSeconds;
+  std::vector<double>           m_RefinementSeconds;
+  std::vector<double>           m_RefinementCpuSeconds;
+  std::vector<double>           m_MemoryBytes;
+  bool                          m_QualityComputed{ false };
+};
 
 /** ComputeQualityReport()'s mean distance to the marching-cubes surface, with that surface computed once. */
 double
@@ -290,19 +332,38 @@ RunCase(const BenchImage & benchImage, double delta, const Options & options, co
   BenchCase          result;
   result.image = benchImage.name;
   result.delta = delta;
-  result.ours = MeasureMesher(
-    "ours", options.runs, [&] { return RunOurFilter(image, delta); }, volume);
+  MesherRuns ours("ours", [&] { return RunOurFilter(image, delta); });
   if (options.oursOnly)
   {
+    for (int i = 0; i < options.runs; ++i)
+    {
+      ours.RunOnce();
+    }
+    result.ours = ours.Finish(volume);
     return result;
   }
-  result.match = MatchFacetDistance(image, delta, result.ours.quality, marchingCubes);
+  // Our mesh decides CGAL's facet_distance; our first run gives it and counts as a timed run.
+  ours.RunOnce();
+  result.match = MatchFacetDistance(image, delta, ours.Quality(volume), marchingCubes);
   CgalCriteria criteria{ FacetSizePerDelta * delta, result.match.facetDistance, CellSizePerDelta * delta, false };
-  result.cgal = MeasureMesher(
-    "CGAL", options.runs, [&] { return RunCgalMesh3(image, criteria); }, volume);
-  criteria.optimize = true;
-  result.cgalOptimized = MeasureMesher(
-    "CGAL+opt", options.runs, [&] { return RunCgalMesh3(image, criteria); }, volume);
+  CgalCriteria optimizedCriteria = criteria;
+  optimizedCriteria.optimize = true;
+  MesherRuns cgal("CGAL", [&] { return RunCgalMesh3(image, criteria); });
+  MesherRuns cgalOptimized("CGAL+opt", [&] { return RunCgalMesh3(image, optimizedCriteria); });
+  // The meshers take turns, run by run: this machine's speed drifts over seconds (a shared host), and a drift
+  // must not fall on one mesher's runs only.
+  for (int i = 0; i < options.runs; ++i)
+  {
+    if (i > 0)
+    {
+      ours.RunOnce();
+    }
+    cgal.RunOnce();
+    cgalOptimized.RunOnce();
+  }
+  result.ours = ours.Finish(volume);
+  result.cgal = cgal.Finish(volume);
+  result.cgalOptimized = cgalOptimized.Finish(volume);
   result.floorSeconds = MedianBulkDelaunaySeconds(result.ours.mesh.points, options.runs);
   return result;
 }
@@ -455,7 +516,7 @@ RunBenchmark(const Options & options)
               << " mm\n";
     const dr::LabelVolume     volume = ToLabelVolume(*benchImage.image);
     const dr::TriangleSurface marchingCubes = dr::ExtractLabelSurfaces(volume);
-    for (const double delta : benchImage.deltas)
+    for (const double delta : options.deltas.empty() ? benchImage.deltas : options.deltas)
     {
       cases.push_back(RunCase(benchImage, delta, options, volume, marchingCubes));
     }
