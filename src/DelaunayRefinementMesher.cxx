@@ -30,6 +30,7 @@
 #include <algorithm>
 #include <chrono>
 #include <limits>
+#include <map>
 #include <optional>
 #include <queue>
 #include <sstream>
@@ -45,13 +46,16 @@ namespace
 using Kernel = CGAL::Robust_circumcenter_filtered_traits_3<CGAL::Exact_predicates_inexact_constructions_kernel>;
 using CgalPoint = Kernel::Point_3;
 
+/** A vertex not (yet) numbered in an output. */
+constexpr uint32_t NoOutputIndex = std::numeric_limits<uint32_t>::max();
+
 struct VertexData
 {
   VertexKind kind{ VertexKind::Free };
   /** Insertion order: sorts vertices deterministically where a container's order would not. */
   uint64_t id{ 0 };
   /** Index in the output mesh, assigned during extraction. */
-  uint32_t outputIndex{ std::numeric_limits<uint32_t>::max() };
+  uint32_t outputIndex{ NoOutputIndex };
 };
 
 /** What every rule asks of a tetrahedron, computed once when the tetrahedron is created. */
@@ -993,35 +997,64 @@ private:
   };
 
   /** The paper guarantees a manifold only for δ small against the local feature size; a slit or a bridge
-   * thinner than δ breaks it. */
+   * thinner than δ breaks it. Works on the triangulation's boundary facets directly: a full extraction (every
+   * tetrahedron, sorted) costs more than the check itself. */
   NonManifoldPlaces
   FindNonManifoldPlaces() const
   {
-    const TetrahedralMesh mesh = ExtractMesh();
-    std::vector<Label>    labels(mesh.tetrahedronLabels.begin(), mesh.tetrahedronLabels.end());
-    std::sort(labels.begin(), labels.end());
-    labels.erase(std::unique(labels.begin(), labels.end()), labels.end());
-    std::vector<uint32_t> offending;
-    for (const Label label : labels)
+    std::vector<VertexHandle>                             boundaryVertices;
+    std::map<Label, std::vector<std::array<uint32_t, 3>>> trianglesPerLabel;
+    for (auto vertex = m_Triangulation.finite_vertices_begin(); vertex != m_Triangulation.finite_vertices_end();
+         ++vertex)
     {
-      const std::vector<uint32_t> vertices = FindNonManifoldVertices(LabelBoundaryTriangles(mesh, label));
-      offending.insert(offending.end(), vertices.begin(), vertices.end());
+      vertex->info().outputIndex = NoOutputIndex;
     }
-    std::sort(offending.begin(), offending.end());
+    const auto indexOf = [&boundaryVertices](VertexHandle vertex) {
+      if (vertex->info().outputIndex == NoOutputIndex)
+      {
+        vertex->info().outputIndex = static_cast<uint32_t>(boundaryVertices.size());
+        boundaryVertices.push_back(vertex);
+      }
+      return vertex->info().outputIndex;
+    };
+    for (auto cell = m_Triangulation.finite_cells_begin(); cell != m_Triangulation.finite_cells_end(); ++cell)
+    {
+      const Label label = cell->cache.label;
+      for (int facet = 0; facet < 4 && label != BackgroundLabel; ++facet)
+      {
+        const Label otherLabel = LabelBeyondFacet(cell, facet);
+        if (otherLabel != label && (otherLabel == BackgroundLabel || label < otherLabel))
+        {
+          const std::array<uint32_t, 3> triangle{ indexOf(cell->vertex(Triangulation::vertex_triple_index(facet, 0))),
+                                                  indexOf(cell->vertex(Triangulation::vertex_triple_index(facet, 1))),
+                                                  indexOf(cell->vertex(Triangulation::vertex_triple_index(facet, 2))) };
+          trianglesPerLabel[label].push_back(triangle);
+          if (otherLabel != BackgroundLabel)
+          {
+            trianglesPerLabel[otherLabel].push_back(triangle);
+          }
+        }
+      }
+    }
+    std::vector<VertexHandle> offending;
+    for (const auto & labelTriangles : trianglesPerLabel)
+    {
+      for (const uint32_t vertex : FindNonManifoldVertices(labelTriangles.second))
+      {
+        offending.push_back(boundaryVertices[vertex]);
+      }
+    }
+    // In insertion order, as the extracted mesh numbers its vertices: the zones do not depend on addresses.
+    std::sort(offending.begin(), offending.end(), [](const VertexHandle & a, const VertexHandle & b) {
+      return a->info().id < b->info().id;
+    });
     offending.erase(std::unique(offending.begin(), offending.end()), offending.end());
     NonManifoldPlaces places;
-    for (const uint32_t vertex : offending)
+    for (const VertexHandle & vertex : offending)
     {
-      places.points.push_back(mesh.points[vertex]);
+      places.points.push_back(PointOf(vertex));
     }
-    std::vector<uint32_t> boundaryVertices;
-    for (const auto & triangle : mesh.boundaryTriangles)
-    {
-      boundaryVertices.insert(boundaryVertices.end(), triangle.begin(), triangle.end());
-    }
-    std::sort(boundaryVertices.begin(), boundaryVertices.end());
-    places.numberOfBoundaryVertices = static_cast<std::size_t>(
-      std::unique(boundaryVertices.begin(), boundaryVertices.end()) - boundaryVertices.begin());
+    places.numberOfBoundaryVertices = boundaryVertices.size();
     return places;
   }
 
@@ -1117,23 +1150,23 @@ private:
   void
   NumberOutputVertices(const std::vector<CellHandle> & objectCells, TetrahedralMesh & mesh) const
   {
-    std::vector<VertexHandle> vertices;
+    // Ids are insertion counters: a table indexed by id orders the vertices without a sort.
+    std::vector<VertexHandle> verticesById(m_NextVertexId, VertexHandle());
     for (CellHandle cell : objectCells)
     {
       for (int corner = 0; corner < 4; ++corner)
       {
-        vertices.push_back(cell->vertex(corner));
+        verticesById[cell->vertex(corner)->info().id] = cell->vertex(corner);
       }
     }
-    std::sort(vertices.begin(), vertices.end(), [](const VertexHandle & a, const VertexHandle & b) {
-      return a->info().id < b->info().id;
-    });
-    vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
-    for (const VertexHandle & vertex : vertices)
+    for (const VertexHandle & vertex : verticesById)
     {
-      vertex->info().outputIndex = static_cast<uint32_t>(mesh.points.size());
-      mesh.points.push_back(PointOf(vertex));
-      mesh.pointKinds.push_back(vertex->info().kind);
+      if (vertex != VertexHandle())
+      {
+        vertex->info().outputIndex = static_cast<uint32_t>(mesh.points.size());
+        mesh.points.push_back(PointOf(vertex));
+        mesh.pointKinds.push_back(vertex->info().kind);
+      }
     }
   }
 
