@@ -175,8 +175,9 @@ public:
     return m_RefinedMesh;
   }
 
-  /** The voxel labels the last update meshed (after label selection, merging or the iso-value), padded with
-   * one voxel of background: the reference for fidelity measurements. */
+  /** The voxel labels the last update meshed (after label selection, merging or the iso-value), cropped to the
+   * object's voxels and one voxel of background around them (every voxel outside is background): the reference
+   * for fidelity measurements. */
   const ObjectLabelImageType *
   GetObjectLabelImage() const
   {

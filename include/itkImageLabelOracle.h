@@ -96,7 +96,8 @@ public:
     return m_NumberOfObjectVoxels;
   }
 
-  /** The voxel labels the oracle sees, padded by one voxel of background all around. */
+  /** The voxel labels the oracle sees: the object's voxels and one voxel of background around them (the input's
+   * region padded by one voxel, cropped to that); every voxel outside it is background. */
   const LabelImageType *
   GetLabelImage() const
   {
@@ -108,6 +109,14 @@ public:
   MapValue(double value) const;
 
 private:
+  struct LabelMemo
+  {
+    bool      valid{ false };
+    double    value{ 0.0 };
+    LabelType label{ delaunay_refinement::BackgroundLabel };
+  };
+  LabelType
+  MapValueRemembering(double value, LabelMemo & memo) const;
   void
   BuildLabelImage(const InputImageType * image);
   void

@@ -20,7 +20,9 @@
 
 #include "itkImageLabelOracle.h"
 
+#include "itkImageRegionConstIterator.h"
 #include "itkImageRegionConstIteratorWithIndex.h"
+#include "itkImageRegionIterator.h"
 #include "itkNearestNeighborInterpolateImageFunction.h"
 
 #include <algorithm>
@@ -73,30 +75,34 @@ ImageLabelOracle<TInputImage>::MapValue(double value) const -> LabelType
   return m_Mapping.mergeLabels ? 1 : label;
 }
 
+/** Label images are runs of equal values: a run's label is looked up once. */
+template <typename TInputImage>
+auto
+ImageLabelOracle<TInputImage>::MapValueRemembering(double value, LabelMemo & memo) const -> LabelType
+{
+  if (!(memo.valid && value == memo.value))
+  {
+    memo = { true, value, MapValue(value) };
+  }
+  return memo.label;
+}
+
+/** The oracle's own label image covers the object's voxels and one voxel of background around them (the input's
+ * buffered region padded by one voxel, cropped to that): every interface voxel is in it, and the feature transform
+ * does no work on background far from the object. */
 template <typename TInputImage>
 void
 ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
 {
   const auto & buffered = image->GetBufferedRegion();
-  auto         padded = buffered;
-  padded.PadByRadius(1);
-  m_LabelImage = LabelImageType::New();
-  m_LabelImage->SetRegions(padded);
-  m_LabelImage->SetOrigin(image->GetOrigin());
-  m_LabelImage->SetSpacing(image->GetSpacing());
-  m_LabelImage->SetDirection(image->GetDirection());
-  m_LabelImage->Allocate();
-  m_LabelImage->FillBuffer(delaunay_refinement::BackgroundLabel);
-
-  IndexType lowest;
-  IndexType highest;
+  IndexType    lowest;
+  IndexType    highest;
   lowest.Fill(NumericTraits<IndexValueType>::max());
   highest.Fill(NumericTraits<IndexValueType>::NonpositiveMin());
+  LabelMemo memo;
   for (ImageRegionConstIteratorWithIndex<InputImageType> it(image, buffered); !it.IsAtEnd(); ++it)
   {
-    const LabelType label = MapValue(static_cast<double>(it.Get()));
-    m_LabelImage->SetPixel(it.GetIndex(), label);
-    if (label != delaunay_refinement::BackgroundLabel)
+    if (MapValueRemembering(static_cast<double>(it.Get()), memo) != delaunay_refinement::BackgroundLabel)
     {
       ++m_NumberOfObjectVoxels;
       for (unsigned int axis = 0; axis < 3; ++axis)
@@ -105,6 +111,31 @@ ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
         highest[axis] = std::max(highest[axis], it.GetIndex()[axis]);
       }
     }
+  }
+  auto kept = buffered;
+  if (m_NumberOfObjectVoxels > 0)
+  {
+    kept.SetIndex(lowest);
+    for (unsigned int axis = 0; axis < 3; ++axis)
+    {
+      kept.SetSize(axis, static_cast<SizeValueType>(highest[axis] - lowest[axis] + 1));
+    }
+  }
+  kept.PadByRadius(1);
+  m_LabelImage = LabelImageType::New();
+  m_LabelImage->SetRegions(kept);
+  m_LabelImage->SetOrigin(image->GetOrigin());
+  m_LabelImage->SetSpacing(image->GetSpacing());
+  m_LabelImage->SetDirection(image->GetDirection());
+  m_LabelImage->Allocate();
+  m_LabelImage->FillBuffer(delaunay_refinement::BackgroundLabel);
+  auto keptInsideImage = kept;
+  keptInsideImage.Crop(buffered);
+  ImageRegionConstIterator<InputImageType> input(image, keptInsideImage);
+  ImageRegionIterator<LabelImageType>      output(m_LabelImage, keptInsideImage);
+  for (; !input.IsAtEnd(); ++input, ++output)
+  {
+    output.Set(MapValueRemembering(static_cast<double>(input.Get()), memo));
   }
   if (m_NumberOfObjectVoxels == 0)
   {
@@ -159,25 +190,28 @@ ImageLabelOracle<TInputImage>::MarkInterfaceVoxels()
   }
 }
 
-/** Squared physical distance along the axes before `axis` from a voxel whose coordinates on those axes are
- * `coordinates` to the voxel at `lowerOffset` within the same lower-axes block (the buffer offset minus the part
- * due to `axis` and the axes after it). */
+/** Squared physical distance along the axes before `axis` from a voxel whose coordinates on those axes
+ * are `coordinates` to the voxel at `lowerOffset` within the same lower-axes block (the buffer offset minus the
+ * part due to `axis` and the axes after it). Called once per voxel and pass: one 32-bit division at most. */
 template <typename TInputImage>
 double
 ImageLabelOracle<TInputImage>::SquaredDistanceAlongLowerAxes(const SizeValueType * coordinates,
                                                              SizeValueType lowerOffset, unsigned int axis) const
 {
-  const auto & size = m_LabelImage->GetBufferedRegion().GetSize();
-  const auto & spacing = m_LabelImage->GetSpacing();
-  double       squaredDistance = 0.0;
-  for (unsigned int lower = 0; lower < axis; ++lower)
+  if (axis == 0)
   {
-    const double difference =
-      (static_cast<double>(coordinates[lower]) - static_cast<double>(lowerOffset % size[lower])) * spacing[lower];
-    squaredDistance += difference * difference;
-    lowerOffset /= size[lower];
+    return 0.0;
   }
-  return squaredDistance;
+  const auto &   spacing = m_LabelImage->GetSpacing();
+  const auto     offset = static_cast<uint32_t>(lowerOffset);
+  const auto     rowLength = static_cast<uint32_t>(m_BufferStrides[1]);
+  const uint32_t row = axis == 1 ? 0 : offset / rowLength;
+  const double   differences[2] = {
+      (static_cast<double>(coordinates[0]) - static_cast<double>(offset - row * rowLength)) * spacing[0],
+    axis == 1 ? 0.0 : (static_cast<double>(coordinates[1]) - static_cast<double>(row)) * spacing[1]
+  };
+  return axis == 1 ? differences[0] * differences[0]
+                   : differences[0] * differences[0] + differences[1] * differences[1];
 }
 
 /** One pass of the separable exact Euclidean feature transform (Felzenszwalb and Huttenlocher's lower envelope of
@@ -276,9 +310,10 @@ template <typename TInputImage>
 auto
 ImageLabelOracle<TInputImage>::VoxelLabelAt(const Vector3 & point) const -> LabelType
 {
-  // The same arithmetic as the nearest-neighbour interpolator's, on the padded label image (same geometry).
-  ContinuousIndex<double, 3> continuousIndex;
-  m_LabelImage->TransformPhysicalPointToContinuousIndex(PointType(point.data()), continuousIndex);
+  // The same arithmetic as the nearest-neighbour interpolator's, on the padded label image (same geometry). The
+  // overload that returns the index skips the region test, which the buffer test below makes redundant.
+  const auto continuousIndex =
+    m_LabelImage->template TransformPhysicalPointToContinuousIndex<double>(PointType(point.data()));
   const auto & buffered = m_Image->GetBufferedRegion();
   IndexType    index;
   for (unsigned int axis = 0; axis < 3; ++axis)
@@ -291,7 +326,9 @@ ImageLabelOracle<TInputImage>::VoxelLabelAt(const Vector3 & point) const -> Labe
     }
     index[axis] = Math::RoundHalfIntegerUp<IndexValueType>(continuousIndex[axis]);
   }
-  return m_LabelImage->GetPixel(index);
+  // Outside the object's cropped neighbourhood every voxel is background.
+  return m_LabelImage->GetBufferedRegion().IsInside(index) ? m_LabelImage->GetPixel(index)
+                                                           : delaunay_refinement::BackgroundLabel;
 }
 
 template <typename TInputImage>
@@ -341,7 +378,7 @@ ImageLabelOracle<TInputImage>::CenterOf(const IndexType & index) const -> Vector
 
 /** The interface voxels nearest to the eight voxel centres around `query` (the feature transform is exact at
  * voxel centres only, and on an anisotropic grid the face nearest to a point need not belong to the interface
- * voxel nearest to its nearest centre), as buffer offsets, sorted. */
+ * voxel nearest to its nearest centre), as buffer offsets, in the order of the corners (repeats included). */
 template <typename TInputImage>
 auto
 ImageLabelOracle<TInputImage>::InterfaceVoxelsAround(const ContinuousIndex<double, 3> & queryIndex) const
@@ -370,36 +407,43 @@ ImageLabelOracle<TInputImage>::InterfaceVoxelsAround(const ContinuousIndex<doubl
     }
     candidates[corner] = m_NearestInterfaceVoxel[offset];
   }
-  std::sort(candidates.begin(), candidates.end());
   return candidates;
 }
 
 /** Of the faces between a candidate interface voxel and a face neighbour of another label, the one whose centre is
- * nearest to `query`: its two voxels. Face centres, not the faces' closest points: they lie on the surface that
- * marching cubes and CGAL's labelled-image domain see (half-way between voxel centres), where the corners of the
- * voxels' staircase do not. Works on buffer offsets: this is the oracle's hot path. */
+ * nearest to `query`: its two voxels; ties go to the voxel with the smaller buffer offset, then to the first face in
+ * axis order. Face centres, not the faces' closest points: they lie on the surface that marching cubes and CGAL's
+ * labelled-image domain see (half-way between voxel centres), where the corners of the voxels' staircase do not.
+ * Works on 32-bit buffer offsets (the padded image has fewer than 2^32 voxels): this is the oracle's hot path. */
 template <typename TInputImage>
 auto
 ImageLabelOracle<TInputImage>::NearestInterfaceFace(const Vector3 & query) const -> InterfaceFace
 {
-  ContinuousIndex<double, 3> queryIndex;
-  m_LabelImage->TransformPhysicalPointToContinuousIndex(PointType(query.data()), queryIndex);
-  const auto &             region = m_LabelImage->GetBufferedRegion();
-  const auto &             spacing = m_LabelImage->GetSpacing();
-  const LabelType *        labels = m_LabelImage->GetBufferPointer();
-  InterfaceVoxelCandidates candidates = InterfaceVoxelsAround(queryIndex);
-  const auto               candidatesEnd = std::unique(candidates.begin(), candidates.end());
-  SizeValueType            nearestVoxel = 0;
-  SizeValueType            nearestNeighbor = 0;
-  double                   nearestSquaredDistance = std::numeric_limits<double>::infinity();
-  for (auto candidate = candidates.begin(); candidate != candidatesEnd; ++candidate)
+  const auto queryIndex =
+    m_LabelImage->template TransformPhysicalPointToContinuousIndex<double>(PointType(query.data()));
+  const auto &                   region = m_LabelImage->GetBufferedRegion();
+  const auto &                   spacing = m_LabelImage->GetSpacing();
+  const LabelType *              labels = m_LabelImage->GetBufferPointer();
+  const InterfaceVoxelCandidates candidates = InterfaceVoxelsAround(queryIndex);
+  const uint32_t                 strides[3] = { 1,
+                                                static_cast<uint32_t>(m_BufferStrides[1]),
+                                                static_cast<uint32_t>(m_BufferStrides[2]) };
+  const uint32_t                 sizes[3] = { static_cast<uint32_t>(region.GetSize()[0]),
+                                              static_cast<uint32_t>(region.GetSize()[1]),
+                                              static_cast<uint32_t>(region.GetSize()[2]) };
+  uint32_t                       nearestVoxel = 0;
+  uint32_t                       nearestNeighbor = 0;
+  double                         nearestSquaredDistance = std::numeric_limits<double>::infinity();
+  for (unsigned int corner = 0; corner < 8; ++corner)
   {
-    const SizeValueType voxel = *candidate;
-    const LabelType     label = labels[voxel];
-    SizeValueType       coordinates[3] = { voxel % m_BufferStrides[1],
-                                           (voxel / m_BufferStrides[1]) % region.GetSize()[1],
-                                           voxel / m_BufferStrides[2] };
-    double              center[3];
+    const uint32_t voxel = candidates[corner];
+    if (std::find(candidates.begin(), candidates.begin() + corner, voxel) != candidates.begin() + corner)
+    {
+      continue;
+    }
+    const LabelType label = labels[voxel];
+    const uint32_t  coordinates[3] = { voxel % strides[1], (voxel / strides[1]) % sizes[1], voxel / strides[2] };
+    double          center[3];
     for (unsigned int axis = 0; axis < 3; ++axis)
     {
       center[axis] = static_cast<double>(region.GetIndex()[axis]) + static_cast<double>(coordinates[axis]);
@@ -408,8 +452,8 @@ ImageLabelOracle<TInputImage>::NearestInterfaceFace(const Vector3 & query) const
     {
       for (const int step : { -1, 1 })
       {
-        const bool          inside = step < 0 ? coordinates[axis] > 0 : coordinates[axis] + 1 < region.GetSize()[axis];
-        const SizeValueType neighbor = step < 0 ? voxel - m_BufferStrides[axis] : voxel + m_BufferStrides[axis];
+        const bool     inside = step < 0 ? coordinates[axis] > 0 : coordinates[axis] + 1 < sizes[axis];
+        const uint32_t neighbor = step < 0 ? voxel - strides[axis] : voxel + strides[axis];
         if (!inside || labels[neighbor] == label)
         {
           continue;
@@ -422,7 +466,8 @@ ImageLabelOracle<TInputImage>::NearestInterfaceFace(const Vector3 & query) const
           const double difference = (faceCenter - queryIndex[other]) * spacing[other];
           squaredDistance += difference * difference;
         }
-        if (squaredDistance < nearestSquaredDistance)
+        if (squaredDistance < nearestSquaredDistance ||
+            (squaredDistance == nearestSquaredDistance && voxel < nearestVoxel))
         {
           nearestSquaredDistance = squaredDistance;
           nearestVoxel = voxel;
