@@ -271,18 +271,31 @@ struct EdgeHash
   }
 };
 
-using EdgeTriangleCounts = std::unordered_map<Edge, std::size_t, EdgeHash>;
+/** Each distinct edge of the triangles with the number of triangles that have it, sorted by edge: sorting a
+ * flat vector beats hashing here (the manifold checks run inside the refinement). */
+using EdgeTriangleCounts = std::vector<std::pair<Edge, std::size_t>>;
 
 EdgeTriangleCounts
 CountTrianglesPerEdge(const std::vector<Triangle> & triangles)
 {
-  EdgeTriangleCounts counts;
+  std::vector<Edge> edges;
+  edges.reserve(3 * triangles.size());
   for (const Triangle & triangle : triangles)
   {
     for (int corner = 0; corner < 3; ++corner)
     {
-      ++counts[MakeEdge(triangle[corner], triangle[(corner + 1) % 3])];
+      edges.push_back(MakeEdge(triangle[corner], triangle[(corner + 1) % 3]));
     }
+  }
+  std::sort(edges.begin(), edges.end());
+  EdgeTriangleCounts counts;
+  for (const Edge & edge : edges)
+  {
+    if (counts.empty() || counts.back().first != edge)
+    {
+      counts.emplace_back(edge, 0);
+    }
+    ++counts.back().second;
   }
   return counts;
 }
@@ -372,79 +385,109 @@ class VertexLinks
 public:
   VertexLinks(const std::vector<Triangle> & triangles)
   {
+    m_LinkEdges.reserve(3 * triangles.size());
     for (const Triangle & triangle : triangles)
     {
       for (int corner = 0; corner < 3; ++corner)
       {
-        m_LinkEdges[triangle[corner]].push_back(MakeEdge(triangle[(corner + 1) % 3], triangle[(corner + 2) % 3]));
+        m_LinkEdges.push_back({ triangle[corner], MakeEdge(triangle[(corner + 1) % 3], triangle[(corner + 2) % 3]) });
       }
     }
+    std::sort(m_LinkEdges.begin(), m_LinkEdges.end());
   }
 
   std::size_t
   NumberOfVertices() const
   {
-    return m_LinkEdges.size();
+    std::size_t vertices = 0;
+    ForEachLink([&vertices](uint32_t, const LinkEdge *, const LinkEdge *) { ++vertices; });
+    return vertices;
   }
 
   std::vector<uint32_t>
   NonManifoldVertices() const
   {
     std::vector<uint32_t> vertices;
-    for (const auto & entry : m_LinkEdges)
-    {
-      if (!IsSingleCycle(entry.first, entry.second))
+    ForEachLink([&vertices](uint32_t center, const LinkEdge * first, const LinkEdge * last) {
+      if (!IsSingleCycle(center, first, last))
       {
-        vertices.push_back(entry.first);
+        vertices.push_back(center);
       }
-    }
-    std::sort(vertices.begin(), vertices.end());
+    });
     return vertices;
   }
 
 private:
-  static bool
-  IsSingleCycle(uint32_t center, const std::vector<Edge> & linkEdges)
+  /** A vertex and one edge of its link; sorted by vertex, the links are contiguous runs. */
+  using LinkEdge = std::pair<uint32_t, Edge>;
+
+  template <typename TVisit>
+  void
+  ForEachLink(TVisit && visit) const
   {
-    if (linkEdges.size() < 3)
+    for (auto first = m_LinkEdges.begin(); first != m_LinkEdges.end();)
+    {
+      auto last = first;
+      while (last != m_LinkEdges.end() && last->first == first->first)
+      {
+        ++last;
+      }
+      visit(first->first, &*first, &*first + (last - first));
+      first = last;
+    }
+  }
+
+  static bool
+  IsSingleCycle(uint32_t center, const LinkEdge * first, const LinkEdge * last)
+  {
+    if (last - first < 3)
     {
       return false;
     }
-    std::unordered_map<uint32_t, std::vector<uint32_t>> neighbours;
-    for (const Edge & edge : linkEdges)
+    // Each link vertex with its two neighbours, as sorted (vertex, neighbour) pairs.
+    std::vector<Edge> adjacency;
+    for (const LinkEdge * link = first; link != last; ++link)
     {
+      const Edge & edge = link->second;
       // A degenerate triangle (a repeated vertex) has no proper link edge.
       if (edge.first == edge.second || edge.first == center || edge.second == center)
       {
         return false;
       }
-      neighbours[edge.first].push_back(edge.second);
-      neighbours[edge.second].push_back(edge.first);
+      adjacency.emplace_back(edge.first, edge.second);
+      adjacency.emplace_back(edge.second, edge.first);
     }
-    for (const auto & entry : neighbours)
+    std::sort(adjacency.begin(), adjacency.end());
+    for (std::size_t i = 0; i < adjacency.size(); i += 2)
     {
-      if (entry.second.size() != 2)
+      const bool degreeTwo = adjacency[i].first == adjacency[i + 1].first &&
+                             (i + 2 == adjacency.size() || adjacency[i + 2].first != adjacency[i].first);
+      if (!degreeTwo)
       {
         return false;
       }
     }
     // All degrees are 2, so the graph is a union of cycles; it is one cycle when a walk covers every vertex.
-    const uint32_t start = neighbours.begin()->first;
-    uint32_t       previous = start;
-    uint32_t       current = neighbours[start][0];
-    std::size_t    visited = 1;
-    while (current != start && visited <= neighbours.size())
+    const auto neighboursOf = [&adjacency](uint32_t vertex) {
+      return std::lower_bound(adjacency.begin(), adjacency.end(), Edge{ vertex, 0 });
+    };
+    const std::size_t numberOfVertices = adjacency.size() / 2;
+    const uint32_t    start = adjacency.front().first;
+    uint32_t          previous = start;
+    uint32_t          current = adjacency.front().second;
+    std::size_t       visited = 1;
+    while (current != start && visited <= numberOfVertices)
     {
-      const std::vector<uint32_t> & next = neighbours[current];
-      const uint32_t                following = next[0] != previous ? next[0] : next[1];
+      const auto     next = neighboursOf(current);
+      const uint32_t following = next->second != previous ? next->second : (next + 1)->second;
       previous = current;
       current = following;
       ++visited;
     }
-    return visited == neighbours.size();
+    return visited == numberOfVertices;
   }
 
-  std::unordered_map<uint32_t, std::vector<Edge>> m_LinkEdges;
+  std::vector<LinkEdge> m_LinkEdges;
 };
 
 double
