@@ -54,11 +54,6 @@ public:
   virtual SurfacePoint
   ClosestSurfacePoint(const Vector3 & query) const = 0;
 
-  /** Distance from `query` to the surface. The default calls ClosestSurfacePoint(); oracles with a cheaper
-   * distance (a distance map) override it, since every tetrahedron asks it once. */
-  virtual double
-  DistanceToSurface(const Vector3 & query) const;
-
   /** A point where the label changes on the segment [a, b], given LabelAt(a) != LabelAt(b). The default
    * bisects on LabelAt() down to SurfaceTolerance() and returns the midpoint of the last bracket. */
   virtual Vector3

@@ -451,6 +451,20 @@ private:
     return m_Triangulation.is_infinite(neighbor) ? BackgroundLabel : neighbor->cache.label;
   }
 
+  /** The oracle's closest surface point, remembered for the last query: R1 asks for the point right after
+   * IsIntersecting() asked for its distance, and the image oracle's search is its most expensive call. */
+  const SurfacePoint &
+  ClosestSurfacePointTo(const Vector3 & query) const
+  {
+    if (!(m_LastSurfaceQueryValid && query == m_LastSurfaceQuery))
+    {
+      m_LastSurfacePoint = m_Oracle.ClosestSurfacePoint(query);
+      m_LastSurfaceQuery = query;
+      m_LastSurfaceQueryValid = true;
+    }
+    return m_LastSurfacePoint;
+  }
+
   /** Whether the cell's circumsphere meets the surface; computes and caches the circumcentre's distance to the
    * surface on first use. */
   bool
@@ -459,7 +473,7 @@ private:
     CellCache & cache = cell->cache;
     if (cache.surfaceDistance == CellCache::NotYetComputed)
     {
-      cache.surfaceDistance = m_Oracle.DistanceToSurface(cache.circumcenter);
+      cache.surfaceDistance = ClosestSurfacePointTo(cache.circumcenter).distance;
     }
     return cache.surfaceDistance * cache.surfaceDistance <= cache.squaredRadius;
   }
@@ -555,7 +569,7 @@ private:
     const CellCache & cache = cell->cache;
     if (IsIntersecting(cell))
     {
-      const SurfacePoint closest = m_Oracle.ClosestSurfacePoint(cache.circumcenter);
+      const SurfacePoint closest = ClosestSurfacePointTo(cache.circumcenter);
       const double       deltaAtClosest = m_Sizing.LocalDelta(closest.point);
       if (!m_FeatureVertices.AnyWithin(closest.point, deltaAtClosest))
       {
@@ -1298,6 +1312,9 @@ private:
   uint64_t                                                                  m_LastStamp{ 0 };
   std::vector<CellHandle>                                                   m_NewCells;
   double                                                                    m_ProgressFraction{ 0.0 };
+  mutable Vector3                                                           m_LastSurfaceQuery{};
+  mutable SurfacePoint                                                      m_LastSurfacePoint{};
+  mutable bool                                                              m_LastSurfaceQueryValid{ false };
   RefinementStatistics                                                      m_Statistics;
 };
 

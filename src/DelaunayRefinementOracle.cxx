@@ -22,12 +22,6 @@ namespace delaunay_refinement
 
 LabelOracle::~LabelOracle() = default;
 
-double
-LabelOracle::DistanceToSurface(const Vector3 & query) const
-{
-  return ClosestSurfacePoint(query).distance;
-}
-
 Vector3
 LabelOracle::SurfaceCrossing(const Vector3 & a, const Vector3 & b) const
 {
