@@ -89,6 +89,18 @@ public:
    * 0 (the default) picks 4 × the largest voxel spacing. Valid: 0 or a value in (0, 1e30]. */
   itkSetMacro(SurfaceSamplingDistance, double);
   itkGetConstMacro(SurfaceSamplingDistance, double);
+  /** δ under the paper's name, the same parameter: ITK Python's functional form then reads
+   * itk.delaunay_image_to_mesh_filter(image, delta=2.0). */
+  void
+  SetDelta(double delta)
+  {
+    this->SetSurfaceSamplingDistance(delta);
+  }
+  double
+  GetDelta() const
+  {
+    return this->GetSurfaceSamplingDistance();
+  }
 
   /** ρ, the radius-edge bound: every tetrahedron's circumradius / shortest edge is < ρ. Default 2 (the
    * paper's guarantees); valid: finite, >= 1. */

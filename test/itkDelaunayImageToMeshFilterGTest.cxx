@@ -1028,6 +1028,24 @@ SmallBall()
   return MakeBallImage(size, spacing, origin, IdentityDirection(), { { 11.3, 11.6, 11.8 } }, 8.0);
 }
 
+/** SetDelta is δ under the paper's name (ITK Python's delta=...): the same parameter, the same mesh. */
+TEST(Parameters, DeltaIsTheSurfaceSamplingDistance)
+{
+  const auto image = SmallBall();
+  auto       byDelta = FilterType::New();
+  byDelta->SetInput(image);
+  byDelta->SetDelta(3.0);
+  EXPECT_EQ(byDelta->GetSurfaceSamplingDistance(), 3.0);
+  auto byName = FilterType::New();
+  byName->SetInput(image);
+  byName->SetSurfaceSamplingDistance(3.0);
+  EXPECT_EQ(byName->GetDelta(), 3.0);
+  byDelta->Update();
+  byName->Update();
+  EXPECT_EQ(byDelta->GetOutput()->GetNumberOfCells(), byName->GetOutput()->GetNumberOfCells());
+  EXPECT_GT(byDelta->GetOutput()->GetNumberOfCells(), 0u);
+}
+
 TEST(BadInput, NoVoxelCarriesASelectedLabel)
 {
   auto filter = FilterFor(SmallBall().GetPointer(), 2.0);
