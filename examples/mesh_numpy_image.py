@@ -35,7 +35,7 @@ def to_meshio(mesh):
 
 def main(output):
     image = make_two_tissue_image()
-    mesh = itk.delaunay_image_to_mesh_filter(image, delta=2.0)
+    mesh, _ = itk.delaunay_image_to_mesh_filter(image, delta=2.0)  # tetrahedra, interface triangles
     meshio.write(output, to_meshio(mesh))
     print(f"{mesh.GetNumberOfPoints()} points, {mesh.GetNumberOfCells()} tetrahedra written to {output}")
 

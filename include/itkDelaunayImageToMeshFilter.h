@@ -162,6 +162,21 @@ public:
   OutputMeshType *
   GetInterfaceMesh();
 
+  /** Output 0, the tetrahedra. */
+  OutputMeshType *
+  GetOutput()
+  {
+    return Superclass::GetOutput();
+  }
+  /** Output `index` (0: tetrahedra, 1: GetInterfaceMesh()). ITK 5.2's ImageToMeshFilter hides MeshSource's
+   * overload, and ITK Python's functional form calls it for a filter with two outputs:
+   * `tetrahedra, interface = itk.delaunay_image_to_mesh_filter(image, delta=2.0)`. */
+  OutputMeshType *
+  GetOutput(unsigned int index)
+  {
+    return itkDynamicCastInDebugMode<OutputMeshType *>(this->ProcessObject::GetOutput(index));
+  }
+
   /** The label on side `side` (0: inside, the cell data; 1: the other side, 0 for background) of cell
    * `cellId` of GetInterfaceMesh(). */
   LabelType

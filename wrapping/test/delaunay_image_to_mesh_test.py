@@ -63,10 +63,13 @@ def main():
         filter_.Update()
         cells_from_object = check_mesh(filter_.GetOutput(), image, center, delta)
 
-        mesh = itk.delaunay_image_to_mesh_filter(image, delta=delta, radius_edge_bound=2.0)
+        # Two outputs, so ITK's functional form returns both: the tetrahedra and the interface triangles.
+        mesh, interface = itk.delaunay_image_to_mesh_filter(image, delta=delta, radius_edge_bound=2.0)
         cells_from_function = check_mesh(mesh, image, center, delta)
         assert cells_from_function == cells_from_object, "the functional form must give the same mesh"
-        by_long_name = itk.delaunay_image_to_mesh_filter(image, surface_sampling_distance=delta)
+        assert interface.GetNumberOfCells() > 50, f"{interface.GetNumberOfCells()} interface triangles"
+        assert all(interface.GetCells().GetElement(i).GetNumberOfPoints() == 3 for i in range(interface.GetNumberOfCells()))
+        by_long_name, _ = itk.delaunay_image_to_mesh_filter(image, surface_sampling_distance=delta)
         assert by_long_name.GetNumberOfCells() == cells_from_object, "delta= and surface_sampling_distance= differ"
         print(f"{pixel_type.__name__}: {cells_from_object} tetrahedra, labels and bounds checked")
     return 0
