@@ -68,8 +68,9 @@ configure_and_build() {
 }
 
 # ITK 5.2.1's Python still says numpy.bool, which NumPy 1.24 (Debian 12) removed.
+# On a rerun the files are patched already and grep finds nothing, which must not stop the script (pipefail).
 restore_numpy_bool() {
-  grep -rlE 'np\.bool\b|numpy\.bool\b' "$build/Wrapping/Generators/Python/itk" 2>/dev/null |
+  { grep -rlE 'np\.bool\b|numpy\.bool\b' "$build/Wrapping/Generators/Python/itk" 2>/dev/null || true; } |
     xargs -r sed -i -E 's/\b(np|numpy)\.bool\b([^_])/\1.bool_\2/g'
 }
 
