@@ -1031,25 +1031,16 @@ private:
       }
       return vertex->info().outputIndex;
     };
-    for (auto cell = m_Triangulation.finite_cells_begin(); cell != m_Triangulation.finite_cells_end(); ++cell)
-    {
-      const Label label = cell->cache.label;
-      for (int facet = 0; facet < 4 && label != BackgroundLabel; ++facet)
+    ForEachInterfaceFacet(ObjectCells(), [&](CellHandle cell, int facet, Label otherLabel) {
+      const std::array<uint32_t, 3> triangle{ indexOf(cell->vertex(Triangulation::vertex_triple_index(facet, 0))),
+                                              indexOf(cell->vertex(Triangulation::vertex_triple_index(facet, 1))),
+                                              indexOf(cell->vertex(Triangulation::vertex_triple_index(facet, 2))) };
+      trianglesPerLabel[cell->cache.label].push_back(triangle);
+      if (otherLabel != BackgroundLabel)
       {
-        const Label otherLabel = LabelBeyondFacet(cell, facet);
-        if (otherLabel != label && (otherLabel == BackgroundLabel || label < otherLabel))
-        {
-          const std::array<uint32_t, 3> triangle{ indexOf(cell->vertex(Triangulation::vertex_triple_index(facet, 0))),
-                                                  indexOf(cell->vertex(Triangulation::vertex_triple_index(facet, 1))),
-                                                  indexOf(cell->vertex(Triangulation::vertex_triple_index(facet, 2))) };
-          trianglesPerLabel[label].push_back(triangle);
-          if (otherLabel != BackgroundLabel)
-          {
-            trianglesPerLabel[otherLabel].push_back(triangle);
-          }
-        }
+        trianglesPerLabel[otherLabel].push_back(triangle);
       }
-    }
+    });
     std::vector<VertexHandle> offending;
     for (const auto & labelTriangles : trianglesPerLabel)
     {
@@ -1242,12 +1233,12 @@ private:
     }
   }
 
-  /** Each interface once: from the tissue side when the other side is background, else from the smaller
-   * label. */
+  /** Calls visit(cell, facet, otherLabel) for each interface facet once: from the tissue side when the other
+   * side is background, else from the smaller label. */
+  template <typename TVisit>
   void
-  AddBoundaryTriangles(const std::vector<CellHandle> & objectCells, TetrahedralMesh & mesh) const
+  ForEachInterfaceFacet(const std::vector<CellHandle> & objectCells, TVisit && visit) const
   {
-    std::vector<std::pair<std::array<uint32_t, 3>, std::array<Label, 2>>> triangles;
     for (CellHandle cell : objectCells)
     {
       const Label label = cell->cache.label;
@@ -1256,10 +1247,19 @@ private:
         const Label otherLabel = LabelBeyondFacet(cell, facet);
         if (otherLabel != label && (otherLabel == BackgroundLabel || label < otherLabel))
         {
-          triangles.emplace_back(OutwardFacet(cell, facet), std::array<Label, 2>{ label, otherLabel });
+          visit(cell, facet, otherLabel);
         }
       }
     }
+  }
+
+  void
+  AddBoundaryTriangles(const std::vector<CellHandle> & objectCells, TetrahedralMesh & mesh) const
+  {
+    std::vector<std::pair<std::array<uint32_t, 3>, std::array<Label, 2>>> triangles;
+    ForEachInterfaceFacet(objectCells, [&](CellHandle cell, int facet, Label otherLabel) {
+      triangles.emplace_back(OutwardFacet(cell, facet), std::array<Label, 2>{ cell->cache.label, otherLabel });
+    });
     std::sort(triangles.begin(), triangles.end());
     for (const auto & [indices, labels] : triangles)
     {
@@ -1268,9 +1268,9 @@ private:
     }
   }
 
-  /** The tetrahedra whose circumcentre is inside the object, in a canonical order. */
-  TetrahedralMesh
-  ExtractMesh() const
+  /** The cells that the output keeps: those whose circumcentre is inside the object. */
+  std::vector<CellHandle>
+  ObjectCells() const
   {
     std::vector<CellHandle> objectCells;
     for (auto cell = m_Triangulation.finite_cells_begin(); cell != m_Triangulation.finite_cells_end(); ++cell)
@@ -1280,7 +1280,15 @@ private:
         objectCells.push_back(cell);
       }
     }
-    TetrahedralMesh mesh;
+    return objectCells;
+  }
+
+  /** The tetrahedra whose circumcentre is inside the object, in a canonical order. */
+  TetrahedralMesh
+  ExtractMesh() const
+  {
+    const std::vector<CellHandle> objectCells = ObjectCells();
+    TetrahedralMesh               mesh;
     NumberOutputVertices(objectCells, mesh);
     AddTetrahedra(objectCells, mesh);
     AddBoundaryTriangles(objectCells, mesh);
