@@ -39,6 +39,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <random>
 #include <set>
 #include <sstream>
 #include <string>
@@ -56,6 +57,72 @@ using dr::operator*;
 
 /** The filter tests' double-precision output mesh: floats would blur the measured guarantees. */
 using MeshType = delaunay_image_to_mesh_test::MeshType;
+
+constexpr double Pi = 3.14159265358979323846;
+
+/** A fixed, portable stream of random numbers: std::mt19937_64's output is standardized, the standard
+ * distributions are not, so every draw is made here from its raw bits. */
+class CaseRandom
+{
+public:
+  explicit CaseRandom(uint64_t seed)
+    : m_Engine(seed)
+  {}
+
+  /** Uniform in [low, high). */
+  double
+  Uniform(double low, double high)
+  {
+    return low + (high - low) * static_cast<double>(m_Engine() >> 11) * 0x1.0p-53;
+  }
+
+  double
+  LogUniform(double low, double high)
+  {
+    return std::exp(Uniform(std::log(low), std::log(high)));
+  }
+
+  /** Uniform in [low, high], both included. */
+  int
+  Integer(int low, int high)
+  {
+    return low + static_cast<int>(m_Engine() % static_cast<uint64_t>(high - low + 1));
+  }
+
+  bool
+  Chance(double probability)
+  {
+    return Uniform(0.0, 1.0) < probability;
+  }
+
+  template <typename T>
+  const T &
+  Pick(const std::vector<T> & values)
+  {
+    return values[static_cast<std::size_t>(Integer(0, static_cast<int>(values.size()) - 1))];
+  }
+
+  /** A uniformly distributed rotation, from a normalized Gaussian quaternion (Box-Muller on our own draws). */
+  std::array<std::array<double, 3>, 3>
+  Rotation()
+  {
+    std::array<double, 4> q{};
+    double                norm = 0.0;
+    for (double & component : q)
+    {
+      component = std::sqrt(-2.0 * std::log(1.0 - Uniform(0.0, 1.0))) * std::cos(2.0 * Pi * Uniform(0.0, 1.0));
+      norm += component * component;
+    }
+    norm = std::sqrt(norm);
+    const double w = q[0] / norm, x = q[1] / norm, y = q[2] / norm, z = q[3] / norm;
+    return { { { { 1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y) } },
+               { { 2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x) } },
+               { { 2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y) } } } };
+  }
+
+private:
+  std::mt19937_64 m_Engine;
+};
 
 /** An image in the given physical space, voxel `i` (x fastest) set to pixelOf(i): the randomized cases and the
  * fuzzer's inputs describe their images the same way. */

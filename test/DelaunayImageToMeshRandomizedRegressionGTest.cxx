@@ -25,7 +25,6 @@
 
 #include <gtest/gtest.h>
 
-#include <random>
 
 namespace
 {
@@ -248,34 +247,6 @@ InterfaceFaceCentres(const TImage & image)
   return centres;
 }
 
-/** A rotation about a random axis by a random angle (Rodrigues' formula). */
-std::array<std::array<double, 3>, 3>
-RandomRotation(std::mt19937 & random)
-{
-  std::normal_distribution<double>       normal;
-  std::uniform_real_distribution<double> angleOf(0.0, 3.14159);
-  dr::Vector3                            axis{ normal(random), normal(random), normal(random) };
-  axis = (1.0 / dr::Norm(axis)) * axis;
-  const double                         angle = angleOf(random);
-  const double                         c = std::cos(angle);
-  const double                         s = std::sin(angle);
-  std::array<std::array<double, 3>, 3> rotation{};
-  for (int i = 0; i < 3; ++i)
-  {
-    for (int j = 0; j < 3; ++j)
-    {
-      rotation[i][j] = (1.0 - c) * axis[i] * axis[j] + (i == j ? c : 0.0);
-    }
-  }
-  rotation[0][1] -= s * axis[2];
-  rotation[1][0] += s * axis[2];
-  rotation[0][2] += s * axis[1];
-  rotation[2][0] -= s * axis[1];
-  rotation[1][2] -= s * axis[0];
-  rotation[2][1] += s * axis[0];
-  return rotation;
-}
-
 /** With the nearest-neighbour interpolator, ClosestSurfacePoint returns the centre of an interface face (a point
  * on the surface, never nearer than the nearest face centre) and its distance, on anisotropic, rotated grids with
  * a non-zero region start, inside, outside and far from the object. It is not always the nearest face centre: the
@@ -289,20 +260,19 @@ TEST(OracleDistance, ClosestSurfacePointIsAnInterfaceFaceCentreWithinTheProvenBo
 {
   using ImageType = itk::Image<unsigned char, 3>;
   using InterpolatorType = itk::NearestNeighborInterpolateImageFunction<ImageType, double>;
-  std::mt19937 random(20261121);
-  std::size_t  queriesAmongVoxelCentres = 0;
+  CaseRandom  random(20261121);
+  std::size_t queriesAmongVoxelCentres = 0;
   for (int imageNumber = 0; imageNumber < 40; ++imageNumber)
   {
-    std::uniform_int_distribution<itk::SizeValueType> sizeOf(1, 9);
-    std::uniform_real_distribution<double>            spacingOf(0.3, 3.0);
-    std::uniform_real_distribution<double>            unit(0.0, 1.0);
-    const std::array<itk::SizeValueType, 3>           size{ sizeOf(random), sizeOf(random), sizeOf(random) };
-    const std::array<double, 3>              spacing{ spacingOf(random), spacingOf(random), spacingOf(random) };
-    const std::array<double, 3>              origin{ 10.0 * unit(random) - 5.0, 10.0 * unit(random) - 5.0, 3.0 };
-    const double                             density = 0.2 + 0.6 * unit(random);
+    const std::array<itk::SizeValueType, 3> size{ static_cast<itk::SizeValueType>(random.Integer(1, 9)),
+                                                  static_cast<itk::SizeValueType>(random.Integer(1, 9)),
+                                                  static_cast<itk::SizeValueType>(random.Integer(1, 9)) };
+    const std::array<double, 3> spacing{ random.Uniform(0.3, 3.0), random.Uniform(0.3, 3.0), random.Uniform(0.3, 3.0) };
+    const std::array<double, 3> origin{ random.Uniform(-5.0, 5.0), random.Uniform(-5.0, 5.0), 3.0 };
+    const double                density = random.Uniform(0.2, 0.8);
     const std::array<itk::IndexValueType, 3> start{ -1, 2, 0 };
-    auto image = MakeImageInSpace<ImageType>(size, start, spacing, origin, RandomRotation(random), [&](std::size_t) {
-      return static_cast<unsigned char>(unit(random) < density ? 1 + (unit(random) < 0.3) : 0);
+    auto image = MakeImageInSpace<ImageType>(size, start, spacing, origin, random.Rotation(), [&](std::size_t) {
+      return static_cast<unsigned char>(random.Chance(density) ? 1 + random.Chance(0.3) : 0);
     });
     auto interpolator = InterpolatorType::New();
     interpolator->SetInputImage(image);
@@ -323,7 +293,7 @@ TEST(OracleDistance, ClosestSurfacePointIsAnInterfaceFaceCentreWithinTheProvenBo
         // From 3 voxels before the region to 3 past it: the padding, the grid's border and beyond.
         const double first = static_cast<double>(start[axis]);
         const double last = first + static_cast<double>(size[axis]) - 1.0;
-        index[axis] = first - 3.0 + (last - first + 6.0) * unit(random);
+        index[axis] = random.Uniform(first - 3.0, last + 3.0);
         amongVoxelCentres = amongVoxelCentres && index[axis] >= first - 1.0 && index[axis] <= last + 1.0;
       }
       ImageType::PointType point;
