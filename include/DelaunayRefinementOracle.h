@@ -20,6 +20,8 @@
 
 #include "DelaunayRefinementTypes.h"
 
+#include <limits>
+
 namespace delaunay_refinement
 {
 
@@ -28,6 +30,13 @@ struct SurfacePoint
 {
   Vector3 point{ { 0.0, 0.0, 0.0 } };
   double  distance{ 0.0 };
+};
+
+/** An interval that holds ClosestSurfacePoint(query).distance. */
+struct SurfaceDistanceBounds
+{
+  double lower{ 0.0 };
+  double upper{ std::numeric_limits<double>::infinity() };
 };
 
 /** \class LabelOracle
@@ -53,6 +62,13 @@ public:
    * SurfaceTolerance()); the distance may be approximate to the oracle's resolution. */
   virtual SurfacePoint
   ClosestSurfacePoint(const Vector3 & query) const = 0;
+
+  /** Bounds on the distance ClosestSurfacePoint(query) would return, for an oracle that can bound it much faster
+   * than it computes it: the refinement classifies every new tetrahedron by whether its circumsphere meets the
+   * surface, and most are destroyed before the closest point itself is asked for. The default, [0, +inf),
+   * decides nothing. */
+  virtual SurfaceDistanceBounds
+  BoundSurfaceDistance(const Vector3 & query) const;
 
   /** A point where the label changes on the segment [a, b], given LabelAt(a) != LabelAt(b). The default
    * bisects on LabelAt() down to SurfaceTolerance() and returns the midpoint of the last bracket. */

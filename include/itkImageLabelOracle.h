@@ -86,6 +86,11 @@ public:
   delaunay_refinement::SurfacePoint
   ClosestSurfacePoint(const Vector3 & query) const override;
 
+  /** With voxelwise labels, from one read of the feature transform at the voxel nearest to `query`; otherwise
+   * the default, which decides nothing (a smoothing interpolator's surface can lie anywhere near the faces). */
+  delaunay_refinement::SurfaceDistanceBounds
+  BoundSurfaceDistance(const Vector3 & query) const override;
+
   double
   SurfaceTolerance() const override;
 
@@ -132,6 +137,9 @@ private:
   using InterfaceVoxelCandidates = std::array<uint32_t, 8>;
   InterfaceVoxelCandidates
   InterfaceVoxelsAround(const ContinuousIndex<double, 3> & queryIndex) const;
+  /** Physical distance between two points given by their continuous indices in the label image. */
+  double
+  IndexDistance(const double * a, const double * b) const;
   /** A face between an interface voxel and its neighbour of another label: the surface crosses the segment
    * between their centres. */
   struct InterfaceFace

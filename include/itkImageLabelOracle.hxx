@@ -129,6 +129,7 @@ ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
   m_LabelImage->SetDirection(image->GetDirection());
   m_LabelImage->Allocate();
   m_LabelImage->FillBuffer(delaunay_refinement::BackgroundLabel);
+  m_BufferStrides = { 1, kept.GetSize()[0], kept.GetSize()[0] * kept.GetSize()[1] };
   auto keptInsideImage = kept;
   keptInsideImage.Crop(buffered);
   ImageRegionConstIterator<InputImageType> input(image, keptInsideImage);
@@ -296,8 +297,6 @@ ImageLabelOracle<TInputImage>::BuildNearestInterfaceMap()
     itkGenericExceptionMacro(<< "ImageLabelOracle: the padded image has " << numberOfVoxels
                              << " voxels; at most 4294967294 are supported.");
   }
-  const auto & size = m_LabelImage->GetBufferedRegion().GetSize();
-  m_BufferStrides = { 1, size[0], size[0] * size[1] };
   m_NearestInterfaceVoxel.assign(numberOfVoxels, std::numeric_limits<uint32_t>::max());
   MarkInterfaceVoxels();
   for (unsigned int axis = 0; axis < 3; ++axis)
@@ -314,8 +313,9 @@ ImageLabelOracle<TInputImage>::VoxelLabelAt(const Vector3 & point) const -> Labe
   // overload that returns the index skips the region test, which the buffer test below makes redundant.
   const auto continuousIndex =
     m_LabelImage->template TransformPhysicalPointToContinuousIndex<double>(PointType(point.data()));
-  const auto & buffered = m_Image->GetBufferedRegion();
-  IndexType    index;
+  const auto &  buffered = m_Image->GetBufferedRegion();
+  const auto &  cropped = m_LabelImage->GetBufferedRegion();
+  SizeValueType offset = 0;
   for (unsigned int axis = 0; axis < 3; ++axis)
   {
     const double first = static_cast<double>(buffered.GetIndex()[axis]) - 0.5;
@@ -324,11 +324,16 @@ ImageLabelOracle<TInputImage>::VoxelLabelAt(const Vector3 & point) const -> Labe
     {
       return delaunay_refinement::BackgroundLabel;
     }
-    index[axis] = Math::RoundHalfIntegerUp<IndexValueType>(continuousIndex[axis]);
+    // Outside the object's cropped neighbourhood every voxel is background.
+    const IndexValueType coordinate =
+      Math::RoundHalfIntegerUp<IndexValueType>(continuousIndex[axis]) - cropped.GetIndex()[axis];
+    if (coordinate < 0 || static_cast<SizeValueType>(coordinate) >= cropped.GetSize()[axis])
+    {
+      return delaunay_refinement::BackgroundLabel;
+    }
+    offset += static_cast<SizeValueType>(coordinate) * m_BufferStrides[axis];
   }
-  // Outside the object's cropped neighbourhood every voxel is background.
-  return m_LabelImage->GetBufferedRegion().IsInside(index) ? m_LabelImage->GetPixel(index)
-                                                           : delaunay_refinement::BackgroundLabel;
+  return m_LabelImage->GetBufferPointer()[offset];
 }
 
 template <typename TInputImage>
@@ -479,6 +484,73 @@ ImageLabelOracle<TInputImage>::NearestInterfaceFace(const Vector3 & query) const
   return { m_LabelImage->ComputeIndex(static_cast<OffsetValueType>(nearestVoxel)),
            m_LabelImage->ComputeIndex(static_cast<OffsetValueType>(nearestNeighbor)),
            std::sqrt(nearestSquaredDistance) };
+}
+
+template <typename TInputImage>
+double
+ImageLabelOracle<TInputImage>::IndexDistance(const double * a, const double * b) const
+{
+  // In index space the metric is diagonal (orthonormal direction, one spacing per axis).
+  const auto & spacing = m_LabelImage->GetSpacing();
+  double       squaredDistance = 0.0;
+  for (unsigned int axis = 0; axis < 3; ++axis)
+  {
+    const double difference = (a[axis] - b[axis]) * spacing[axis];
+    squaredDistance += difference * difference;
+  }
+  return std::sqrt(squaredDistance);
+}
+
+/** Let v be the voxel centre nearest to the query q (one of the eight corners NearestInterfaceFace() looks
+ * around), w its nearest interface voxel and h half the largest spacing (a face centre is within h of its voxel's
+ * centre). Upper: w's interface faces are among those searched, and each is within |q - w| + h. Lower: every face
+ * centre is within h of an interface voxel centre, and none of those is nearer to v than w (the feature transform is
+ * exact at voxel centres), so none is nearer to q than |v - w| - |q - v|. */
+template <typename TInputImage>
+delaunay_refinement::SurfaceDistanceBounds
+ImageLabelOracle<TInputImage>::BoundSurfaceDistance(const Vector3 & query) const
+{
+  if (!m_LabelsAreVoxelwise || m_NumberOfObjectVoxels == 0)
+  {
+    return {};
+  }
+  const auto queryIndex =
+    m_LabelImage->template TransformPhysicalPointToContinuousIndex<double>(PointType(query.data()));
+  const auto &   region = m_LabelImage->GetBufferedRegion();
+  const uint32_t strides[3] = { 1,
+                                static_cast<uint32_t>(m_BufferStrides[1]),
+                                static_cast<uint32_t>(m_BufferStrides[2]) };
+  uint32_t       voxelOffset = 0;
+  double         voxel[3];
+  for (unsigned int axis = 0; axis < 3; ++axis)
+  {
+    const double first = static_cast<double>(region.GetIndex()[axis]);
+    const double lastCoordinate = static_cast<double>(region.GetSize()[axis]) - 1.0;
+    // Non-negative once clamped, so truncating rounds (half up).
+    const auto coordinate = static_cast<uint32_t>(std::clamp(queryIndex[axis] - first, 0.0, lastCoordinate) + 0.5);
+    voxel[axis] = first + static_cast<double>(coordinate);
+    voxelOffset += coordinate * strides[axis];
+  }
+  const uint32_t interfaceOffset = m_NearestInterfaceVoxel[voxelOffset];
+  const uint32_t interfaceCoordinates[3] = { interfaceOffset % strides[1],
+                                             (interfaceOffset / strides[1]) %
+                                               static_cast<uint32_t>(region.GetSize()[1]),
+                                             interfaceOffset / strides[2] };
+  double         interfaceVoxel[3];
+  for (unsigned int axis = 0; axis < 3; ++axis)
+  {
+    interfaceVoxel[axis] =
+      static_cast<double>(region.GetIndex()[axis]) + static_cast<double>(interfaceCoordinates[axis]);
+  }
+  const auto & spacing = m_LabelImage->GetSpacing();
+  const double halfLargestSpacing = 0.5 * *std::max_element(spacing.Begin(), spacing.End());
+  const double queryToVoxel = IndexDistance(queryIndex.GetDataPointer(), voxel);
+  const double voxelToInterface = IndexDistance(voxel, interfaceVoxel);
+  const double queryToInterface = IndexDistance(queryIndex.GetDataPointer(), interfaceVoxel);
+  // Far above the rounding of these sums and of the search's own distances.
+  const double rounding = 1e-9 * (queryToVoxel + queryToInterface + halfLargestSpacing);
+  return { std::max(0.0, voxelToInterface - queryToVoxel - halfLargestSpacing - rounding),
+           queryToInterface + halfLargestSpacing + rounding };
 }
 
 template <typename TInputImage>

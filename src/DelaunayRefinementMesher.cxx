@@ -49,11 +49,14 @@ using CgalPoint = Kernel::Point_3;
 /** A vertex not (yet) numbered in an output. */
 constexpr uint32_t NoOutputIndex = std::numeric_limits<uint32_t>::max();
 
+/** Vertex ids are insertion counters of 32 bits: they keep vertices and queue entries small. */
+using VertexId = uint32_t;
+
 struct VertexData
 {
   VertexKind kind{ VertexKind::Free };
   /** Insertion order: sorts vertices deterministically where a container's order would not. */
-  uint64_t id{ 0 };
+  VertexId id{ 0 };
   /** Index in the output mesh, assigned during extraction. */
   uint32_t outputIndex{ NoOutputIndex };
 };
@@ -147,33 +150,65 @@ enum class QueueLevel : int
   Quality = 1
 };
 
+/** 40 bytes: popping sifts entries through a heap of hundreds of thousands of them. */
 struct QueueEntry
 {
+  double     squaredRadius;
   CellHandle cell;
   uint64_t   stamp;
-  QueueLevel level;
-  double     squaredRadius;
   /** The cell's vertex ids, sorted: a tie-break that depends on the geometry and the (canonical) insertion
    * order only, never on memory addresses, which CGAL's vertex removal lets leak into container orders. */
-  std::array<uint64_t, 4> vertexIds;
+  std::array<VertexId, 4> vertexIds;
 };
 
-/** Largest tetrahedra first within a level; equal sizes (co-spherical cells) by vertex ids, for determinism. */
+/** Largest tetrahedra first; equal sizes (co-spherical cells) by vertex ids, for determinism. */
 struct QueueEntryOrder
 {
   bool
   operator()(const QueueEntry & a, const QueueEntry & b) const
   {
-    if (a.level != b.level)
-    {
-      return a.level > b.level;
-    }
     if (a.squaredRadius != b.squaredRadius)
     {
       return a.squaredRadius < b.squaredRadius;
     }
     return a.vertexIds > b.vertexIds;
   }
+};
+
+/** One heap per level, the surface level's emptied first: the level is then never compared. */
+class RefinementQueue
+{
+public:
+  void
+  Push(QueueLevel level, const QueueEntry & entry)
+  {
+    m_Levels[static_cast<int>(level)].push(entry);
+  }
+
+  bool
+  Empty() const
+  {
+    return m_Levels[0].empty() && m_Levels[1].empty();
+  }
+
+  std::size_t
+  Size() const
+  {
+    return m_Levels[0].size() + m_Levels[1].size();
+  }
+
+  /** The next entry to process; the queue must not be empty. */
+  QueueEntry
+  Pop()
+  {
+    auto &           level = m_Levels[0].empty() ? m_Levels[1] : m_Levels[0];
+    const QueueEntry entry = level.top();
+    level.pop();
+    return entry;
+  }
+
+private:
+  std::array<std::priority_queue<QueueEntry, std::vector<QueueEntry>, QueueEntryOrder>, 2> m_Levels;
 };
 
 /** One of the 12 edges of the bounding box, with the positions of the box-edge vertices along it. */
@@ -478,6 +513,28 @@ private:
     return cache.surfaceDistance * cache.surfaceDistance <= cache.squaredRadius;
   }
 
+  /** IsIntersecting() decided by the oracle's cheap distance bounds when they can; the exact distance is then left
+   * for FindApplicableRule(), since nearly half of the classified cells are destroyed before they are popped. The
+   * answer is the same either way, so the mesh does not change. */
+  bool
+  IsIntersectingAsClassified(CellHandle cell) const
+  {
+    const CellCache & cache = cell->cache;
+    if (cache.surfaceDistance == CellCache::NotYetComputed)
+    {
+      const SurfaceDistanceBounds bounds = m_Oracle.BoundSurfaceDistance(cache.circumcenter);
+      if (bounds.upper * bounds.upper <= cache.squaredRadius)
+      {
+        return true;
+      }
+      if (bounds.lower * bounds.lower > cache.squaredRadius)
+      {
+        return false;
+      }
+    }
+    return IsIntersecting(cell);
+  }
+
   bool
   HasLabelChangeAcrossAFacet(CellHandle cell) const
   {
@@ -509,7 +566,7 @@ private:
   Classify(CellHandle cell) const
   {
     // The label test first: it is cheap and often decides without the oracle's distance.
-    if (HasLabelChangeAcrossAFacet(cell) || IsIntersecting(cell))
+    if (HasLabelChangeAcrossAFacet(cell) || IsIntersectingAsClassified(cell))
     {
       return QueueLevel::Surface;
     }
@@ -520,10 +577,10 @@ private:
     return std::nullopt;
   }
 
-  static std::array<uint64_t, 4>
+  static std::array<VertexId, 4>
   SortedVertexIds(CellHandle cell)
   {
-    std::array<uint64_t, 4> ids{
+    std::array<VertexId, 4> ids{
       cell->vertex(0)->info().id, cell->vertex(1)->info().id, cell->vertex(2)->info().id, cell->vertex(3)->info().id
     };
     std::sort(ids.begin(), ids.end());
@@ -536,7 +593,7 @@ private:
     const std::optional<QueueLevel> level = Classify(cell);
     if (level)
     {
-      m_Queue.push({ cell, cell->cache.stamp, *level, cell->cache.squaredRadius, SortedVertexIds(cell) });
+      m_Queue.Push(*level, { cell->cache.squaredRadius, cell, cell->cache.stamp, SortedVertexIds(cell) });
     }
   }
 
@@ -669,6 +726,13 @@ private:
   void
   RequireRoomForAVertex() const
   {
+    if (m_NextVertexId == std::numeric_limits<VertexId>::max())
+    {
+      throw VertexLimitExceeded(
+        "Delaunay refinement made 2^32 - 1 vertex insertions, the most its vertex ids can "
+        "number, before every rule was satisfied; raise the surface sampling distance (delta = " +
+        DescribeValue(m_Delta) + ")");
+    }
     if (m_Triangulation.number_of_vertices() >= m_Parameters.maximumNumberOfVertices)
     {
       throw VertexLimitExceeded("Delaunay refinement reached maximumNumberOfVertices = " +
@@ -950,10 +1014,9 @@ private:
   RefineUntilNoRuleApplies()
   {
     std::size_t processed = 0;
-    while (!m_Queue.empty())
+    while (!m_Queue.Empty())
     {
-      const QueueEntry entry = m_Queue.top();
-      m_Queue.pop();
+      const QueueEntry entry = m_Queue.Pop();
       if (!IsAlive(entry))
       {
         ++m_Statistics.staleQueueEntries;
@@ -988,9 +1051,9 @@ private:
     }
     RefinementProgress progress;
     progress.vertices = m_Triangulation.number_of_vertices();
-    progress.pendingTetrahedra = m_Queue.size();
+    progress.pendingTetrahedra = m_Queue.Size();
     progress.processedTetrahedra = processed;
-    const double estimate = static_cast<double>(processed) / static_cast<double>(processed + m_Queue.size() + 1);
+    const double estimate = static_cast<double>(processed) / static_cast<double>(processed + m_Queue.Size() + 1);
     m_ProgressFraction = std::max(m_ProgressFraction, std::min(estimate, 0.999));
     progress.fraction = m_ProgressFraction;
     if (!m_Observer(progress))
@@ -1315,15 +1378,15 @@ private:
   std::vector<VertexHandle> m_BoxFaceVertices;
   LocalSampling             m_Sizing;
 
-  std::priority_queue<QueueEntry, std::vector<QueueEntry>, QueueEntryOrder> m_Queue;
-  uint64_t                                                                  m_NextVertexId{ 0 };
-  uint64_t                                                                  m_LastStamp{ 0 };
-  std::vector<CellHandle>                                                   m_NewCells;
-  double                                                                    m_ProgressFraction{ 0.0 };
-  mutable Vector3                                                           m_LastSurfaceQuery{};
-  mutable SurfacePoint                                                      m_LastSurfacePoint{};
-  mutable bool                                                              m_LastSurfaceQueryValid{ false };
-  RefinementStatistics                                                      m_Statistics;
+  RefinementQueue         m_Queue;
+  VertexId                m_NextVertexId{ 0 };
+  uint64_t                m_LastStamp{ 0 };
+  std::vector<CellHandle> m_NewCells;
+  double                  m_ProgressFraction{ 0.0 };
+  mutable Vector3         m_LastSurfaceQuery{};
+  mutable SurfacePoint    m_LastSurfacePoint{};
+  mutable bool            m_LastSurfaceQueryValid{ false };
+  RefinementStatistics    m_Statistics;
 };
 
 /** Beyond it the bounding box (the object's bounds grown by 3δ) makes the fourth powers of its coordinates in the

@@ -22,6 +22,12 @@ namespace delaunay_refinement
 
 LabelOracle::~LabelOracle() = default;
 
+SurfaceDistanceBounds
+LabelOracle::BoundSurfaceDistance(const Vector3 &) const
+{
+  return {};
+}
+
 Vector3
 LabelOracle::SurfaceCrossing(const Vector3 & a, const Vector3 & b) const
 {

@@ -247,6 +247,21 @@ InterfaceFaceCentres(const TImage & image)
   return centres;
 }
 
+bool
+IsWithinHalfAVoxelOf(const itk::ImageRegion<3> & region, const itk::ContinuousIndex<double, 3> & index)
+{
+  for (unsigned int axis = 0; axis < 3; ++axis)
+  {
+    const double first = static_cast<double>(region.GetIndex()[axis]);
+    const double last = first + static_cast<double>(region.GetSize()[axis]) - 1.0;
+    if (index[axis] < first - 0.5 || index[axis] > last + 0.5)
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
 /** With the nearest-neighbour interpolator, ClosestSurfacePoint returns the centre of an interface face (a point
  * on the surface, never nearer than the nearest face centre) and its distance, on anisotropic, rotated grids with
  * a non-zero region start, inside, outside and far from the object. It is not always the nearest face centre: the
@@ -255,13 +270,18 @@ InterfaceFaceCentres(const TImage & image)
  * one of those centres, v its nearest interface voxel, f* the nearest face centre (one of whose voxels, w, is an
  * interface voxel): |c - v| <= |c - w| <= |c - q| + |q - f*| + s/2, so the face of v that is returned is at most
  * |q - f*| + 2 |q - c| + s_max away, which this test checks (with c the nearest centre: half the voxel
- * diagonal). Measured on these images: about 3 % of the queries get a farther face centre, by up to 1.5 mm. */
+ * diagonal). Measured on these images: about 3 % of the queries get a farther face centre, by up to 1.5 mm.
+ * BoundSurfaceDistance() must enclose the returned distance exactly (the refinement classifies tetrahedra with it
+ * instead of the distance, without tolerance), and be as tight as its proof says: within the voxel diagonal plus
+ * the largest spacing of the nearest face centre on either side, for a query within half a voxel of the oracle's
+ * (cropped) label image, whose nearest voxel centre v is then within half the diagonal (see the oracle). */
 TEST(OracleDistance, ClosestSurfacePointIsAnInterfaceFaceCentreWithinTheProvenBound)
 {
   using ImageType = itk::Image<unsigned char, 3>;
   using InterpolatorType = itk::NearestNeighborInterpolateImageFunction<ImageType, double>;
   CaseRandom  random(20261121);
   std::size_t queriesAmongVoxelCentres = 0;
+  std::size_t queriesNearTheLabelImage = 0;
   for (int imageNumber = 0; imageNumber < 40; ++imageNumber)
   {
     const std::array<itk::SizeValueType, 3> size{ static_cast<itk::SizeValueType>(random.Integer(1, 9)),
@@ -311,6 +331,15 @@ TEST(OracleDistance, ClosestSurfacePointIsAnInterfaceFaceCentreWithinTheProvenBo
       ASSERT_LE(foundToFaceCentre, rounding) << "image " << imageNumber << ", query " << queryNumber;
       ASSERT_NEAR(dr::Distance(query, found.point), found.distance, rounding);
       ASSERT_GE(found.distance, nearest - rounding);
+      const dr::SurfaceDistanceBounds bounds = oracle.BoundSurfaceDistance(query);
+      ASSERT_LE(bounds.lower, found.distance) << "image " << imageNumber << ", query " << queryNumber;
+      ASSERT_GE(bounds.upper, found.distance) << "image " << imageNumber << ", query " << queryNumber;
+      if (IsWithinHalfAVoxelOf(oracle.GetLabelImage()->GetBufferedRegion(), index))
+      {
+        ++queriesNearTheLabelImage;
+        ASSERT_GE(bounds.lower, nearest - voxelDiagonal - largestSpacing - rounding);
+        ASSERT_LE(bounds.upper, nearest + voxelDiagonal + largestSpacing + rounding);
+      }
       if (amongVoxelCentres)
       {
         ++queriesAmongVoxelCentres;
@@ -320,5 +349,6 @@ TEST(OracleDistance, ClosestSurfacePointIsAnInterfaceFaceCentreWithinTheProvenBo
     }
   }
   EXPECT_GT(queriesAmongVoxelCentres, 1500u);
+  EXPECT_GT(queriesNearTheLabelImage, 1500u);
 }
 } // namespace
