@@ -383,33 +383,51 @@ ComponentGenus(const std::vector<Triangle> & componentTriangles)
 class VertexLinks
 {
 public:
-  VertexLinks(const std::vector<Triangle> & triangles)
+  /** The links as contiguous runs per vertex, bucketed by vertex index (a counting sort: vertex indices are
+   * dense), each run in the triangles' order. */
+  explicit VertexLinks(const std::vector<Triangle> & triangles)
   {
-    m_LinkEdges.reserve(3 * triangles.size());
+    uint32_t numberOfSlots = 0;
+    for (const Triangle & triangle : triangles)
+    {
+      numberOfSlots = std::max({ numberOfSlots, triangle[0] + 1, triangle[1] + 1, triangle[2] + 1 });
+    }
+    m_LinkStart.assign(std::size_t{ numberOfSlots } + 1, 0);
+    for (const Triangle & triangle : triangles)
+    {
+      for (const uint32_t vertex : triangle)
+      {
+        ++m_LinkStart[vertex + 1];
+      }
+    }
+    std::partial_sum(m_LinkStart.begin(), m_LinkStart.end(), m_LinkStart.begin());
+    std::vector<std::size_t> next(m_LinkStart.begin(), m_LinkStart.end() - 1);
+    m_LinkEdges.resize(3 * triangles.size());
     for (const Triangle & triangle : triangles)
     {
       for (int corner = 0; corner < 3; ++corner)
       {
-        m_LinkEdges.push_back({ triangle[corner], MakeEdge(triangle[(corner + 1) % 3], triangle[(corner + 2) % 3]) });
+        m_LinkEdges[next[triangle[corner]]++] = MakeEdge(triangle[(corner + 1) % 3], triangle[(corner + 2) % 3]);
       }
     }
-    std::sort(m_LinkEdges.begin(), m_LinkEdges.end());
   }
 
   std::size_t
   NumberOfVertices() const
   {
     std::size_t vertices = 0;
-    ForEachLink([&vertices](uint32_t, const LinkEdge *, const LinkEdge *) { ++vertices; });
+    ForEachLink([&vertices](uint32_t, const Edge *, const Edge *) { ++vertices; });
     return vertices;
   }
 
+  /** In increasing order. */
   std::vector<uint32_t>
   NonManifoldVertices() const
   {
     std::vector<uint32_t> vertices;
-    ForEachLink([&vertices](uint32_t center, const LinkEdge * first, const LinkEdge * last) {
-      if (!IsSingleCycle(center, first, last))
+    std::vector<Edge>     adjacency;
+    ForEachLink([&](uint32_t center, const Edge * first, const Edge * last) {
+      if (!IsSingleCycle(center, first, last, adjacency))
       {
         vertices.push_back(center);
       }
@@ -418,37 +436,34 @@ public:
   }
 
 private:
-  /** A vertex and one edge of its link; sorted by vertex, the links are contiguous runs. */
-  using LinkEdge = std::pair<uint32_t, Edge>;
-
   template <typename TVisit>
   void
   ForEachLink(TVisit && visit) const
   {
-    for (auto first = m_LinkEdges.begin(); first != m_LinkEdges.end();)
+    for (std::size_t vertex = 0; vertex + 1 < m_LinkStart.size(); ++vertex)
     {
-      auto last = first;
-      while (last != m_LinkEdges.end() && last->first == first->first)
+      if (m_LinkStart[vertex] != m_LinkStart[vertex + 1])
       {
-        ++last;
+        visit(static_cast<uint32_t>(vertex),
+              m_LinkEdges.data() + m_LinkStart[vertex],
+              m_LinkEdges.data() + m_LinkStart[vertex + 1]);
       }
-      visit(first->first, &*first, &*first + (last - first));
-      first = last;
     }
   }
 
+  /** `adjacency` is scratch space, reused from vertex to vertex. */
   static bool
-  IsSingleCycle(uint32_t center, const LinkEdge * first, const LinkEdge * last)
+  IsSingleCycle(uint32_t center, const Edge * first, const Edge * last, std::vector<Edge> & adjacency)
   {
     if (last - first < 3)
     {
       return false;
     }
     // Each link vertex with its two neighbours, as sorted (vertex, neighbour) pairs.
-    std::vector<Edge> adjacency;
-    for (const LinkEdge * link = first; link != last; ++link)
+    adjacency.clear();
+    for (const Edge * link = first; link != last; ++link)
     {
-      const Edge & edge = link->second;
+      const Edge & edge = *link;
       // A degenerate triangle (a repeated vertex) has no proper link edge.
       if (edge.first == edge.second || edge.first == center || edge.second == center)
       {
@@ -487,7 +502,9 @@ private:
     return visited == numberOfVertices;
   }
 
-  std::vector<LinkEdge> m_LinkEdges;
+  /** The link edges of vertex v are m_LinkEdges[m_LinkStart[v], m_LinkStart[v + 1]). */
+  std::vector<std::size_t> m_LinkStart;
+  std::vector<Edge>        m_LinkEdges;
 };
 
 double
@@ -708,18 +725,9 @@ ComputeSurfaceTopology(const std::vector<Vector3> & points, const std::vector<st
 std::vector<uint32_t>
 FindNonManifoldVertices(const std::vector<std::array<uint32_t, 3>> & triangles)
 {
-  std::vector<uint32_t> vertices = VertexLinks(triangles).NonManifoldVertices();
-  for (const auto & entry : CountTrianglesPerEdge(triangles))
-  {
-    if (entry.second != 2)
-    {
-      vertices.push_back(entry.first.first);
-      vertices.push_back(entry.first.second);
-    }
-  }
-  std::sort(vertices.begin(), vertices.end());
-  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
-  return vertices;
+  // An edge va in k != 2 triangles gives a degree k in v's link (and v degree k in a's), so both of its endpoints
+  // fail the single-cycle test: the edges need no count of their own.
+  return VertexLinks(triangles).NonManifoldVertices();
 }
 
 SurfaceTopology

@@ -307,6 +307,28 @@ TEST(SurfaceTopology, EdgeInThreeTrianglesIsNonManifold)
   EXPECT_EQ(topology.nonManifoldVertices, 5u);
 }
 
+/** The refinement's manifold check: the vertices whose link is not one cycle, which includes both endpoints of
+ * every edge in a number of triangles other than two; vertex indices need not be contiguous. */
+TEST(SurfaceTopology, FindNonManifoldVertices)
+{
+  EXPECT_TRUE(FindNonManifoldVertices(TetrahedronSurface(10, 11, 13, 12)).empty());
+
+  Triangles twoTetrahedraOnAnEdge = TetrahedronSurface(0, 1, 3, 2);
+  Append(twoTetrahedraOnAnEdge, TetrahedronSurface(0, 1, 5, 4));
+  EXPECT_EQ(FindNonManifoldVertices(twoTetrahedraOnAnEdge), (std::vector<uint32_t>{ 0, 1 }));
+
+  Triangles bowTie = TetrahedronSurface(0, 1, 3, 2);
+  Append(bowTie, TetrahedronSurface(0, 4, 5, 6));
+  EXPECT_EQ(FindNonManifoldVertices(bowTie), (std::vector<uint32_t>{ 0 }));
+
+  Triangles open = TetrahedronSurface(20, 21, 23, 22);
+  open.pop_back();
+  EXPECT_EQ(FindNonManifoldVertices(open), (std::vector<uint32_t>{ 21, 22, 23 }));
+
+  EXPECT_EQ(FindNonManifoldVertices({ { { 0, 1, 2 } }, { { 0, 1, 3 } }, { { 0, 1, 4 } } }),
+            (std::vector<uint32_t>{ 0, 1, 2, 3, 4 }));
+}
+
 TEST(SurfaceTopology, MinimumPlanarAngle)
 {
   // A right triangle with legs 1 and √3: angles 30°, 60°, 90°.
