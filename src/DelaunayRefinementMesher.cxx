@@ -500,26 +500,14 @@ private:
     return m_LastSurfacePoint;
   }
 
-  /** Whether the cell's circumsphere meets the surface; computes and caches the circumcentre's distance to the
-   * surface on first use. */
+  /** Whether the cell's circumsphere meets the surface. The oracle's cheap distance bounds decide most cells;
+   * the others get the circumcentre's distance to the surface, cached. Classification asks this of every new
+   * cell, and nearly half of them are destroyed before they are popped, so the closest point itself waits until
+   * R1 asks for it. The answer is the same either way, so the mesh does not depend on the bounds. */
   bool
   IsIntersecting(CellHandle cell) const
   {
     CellCache & cache = cell->cache;
-    if (cache.surfaceDistance == CellCache::NotYetComputed)
-    {
-      cache.surfaceDistance = ClosestSurfacePointTo(cache.circumcenter).distance;
-    }
-    return cache.surfaceDistance * cache.surfaceDistance <= cache.squaredRadius;
-  }
-
-  /** IsIntersecting() decided by the oracle's cheap distance bounds when they can; the exact distance is then left
-   * for FindApplicableRule(), since nearly half of the classified cells are destroyed before they are popped. The
-   * answer is the same either way, so the mesh does not change. */
-  bool
-  IsIntersectingAsClassified(CellHandle cell) const
-  {
-    const CellCache & cache = cell->cache;
     if (cache.surfaceDistance == CellCache::NotYetComputed)
     {
       const SurfaceDistanceBounds bounds = m_Oracle.BoundSurfaceDistance(cache.circumcenter);
@@ -531,8 +519,9 @@ private:
       {
         return false;
       }
+      cache.surfaceDistance = ClosestSurfacePointTo(cache.circumcenter).distance;
     }
-    return IsIntersecting(cell);
+    return cache.surfaceDistance * cache.surfaceDistance <= cache.squaredRadius;
   }
 
   bool
@@ -566,7 +555,7 @@ private:
   Classify(CellHandle cell) const
   {
     // The label test first: it is cheap and often decides without the oracle's distance.
-    if (HasLabelChangeAcrossAFacet(cell) || IsIntersectingAsClassified(cell))
+    if (HasLabelChangeAcrossAFacet(cell) || IsIntersecting(cell))
     {
       return QueueLevel::Surface;
     }
