@@ -263,12 +263,11 @@ public:
     return delta;
   }
 
-  /** Halves the sampling distance around `point`, but not below `finest`; its zone covers the facets around
+  /** Samples at `delta` around `point` (where that is finer than elsewhere); the zone covers the facets around
    * it. Returns the zone's radius: outside it nothing changed. */
   double
-  Refine(const Vector3 & point, double finest)
+  AddZone(const Vector3 & point, double delta)
   {
-    const double delta = std::max(0.5 * LocalDelta(point), finest);
     const double radius = ZoneRadiusFactor * 2.0 * delta;
     m_ZoneCenters.Insert(point, m_Zones.size());
     m_Zones.push_back({ point, radius * radius, delta });
@@ -1137,13 +1136,21 @@ private:
     NonManifoldPlaces places = FindNonManifoldPlaces();
     while (!places.points.empty() && IsRepairable(places))
     {
-      std::vector<Ball> newZones;
+      // Each place's δ is halved once per round, from its δ before the round: a place inside the zone just made
+      // for a nearby one is not halved again (which would refine by how the places happen to be ordered).
+      std::vector<std::pair<Vector3, double>> halvings;
       for (const Vector3 & point : places.points)
       {
-        if (m_Sizing.LocalDelta(point) > finestDelta * (1.0 + 1e-12))
+        const double localDelta = m_Sizing.LocalDelta(point);
+        if (localDelta > finestDelta * (1.0 + 1e-12))
         {
-          newZones.push_back({ point, m_Sizing.Refine(point, finestDelta) });
+          halvings.emplace_back(point, std::max(0.5 * localDelta, finestDelta));
         }
+      }
+      std::vector<Ball> newZones;
+      for (const auto & halving : halvings)
+      {
+        newZones.push_back({ halving.first, m_Sizing.AddZone(halving.first, halving.second) });
       }
       if (newZones.empty())
       {
