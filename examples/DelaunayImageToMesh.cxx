@@ -98,6 +98,7 @@ struct Options
   /** Empty = every non-zero label. */
   std::vector<Label>    labels;
   bool                  mergeLabels{ false };
+  bool                  joinDiagonalVoxels{ true };
   std::optional<double> isoValue;
   std::size_t           maximumNumberOfVertices{ delaunay_refinement::RefinementParameters{}.maximumNumberOfVertices };
   std::string           reportPath;
@@ -129,6 +130,9 @@ PrintHelp(std::ostream & out)
       << "  --labels all|L1,L2,...   the labels to mesh, each as a tissue (default: all = every non-zero label)\n"
       << "  --merge-labels           mesh the selected labels as one object, label 1 (e.g. a mask whose values\n"
       << "                           are classes; default: each label is a tissue)\n"
+      << "  --keep-diagonal-voxels   do not join voxels of a tissue that touch only along an edge (default: one of\n"
+      << "                           the two background voxels at that edge joins them, so that the boundary can\n"
+      << "                           be a manifold there)\n"
       << "  --iso VALUE              treat INPUT as a gray image: mesh where the linearly interpolated value is\n"
       << "                           >= VALUE, as label 1 (cannot be combined with --labels or --merge-labels)\n"
       << "  --max-vertices N         fail beyond N vertices (default: "
@@ -269,6 +273,10 @@ ApplyFlag(const std::string & option, const OptionValue & value, Options & optio
   else if (option == "--merge-labels")
   {
     options.mergeLabels = true;
+  }
+  else if (option == "--keep-diagonal-voxels")
+  {
+    options.joinDiagonalVoxels = false;
   }
   else if (option == "--help")
   {
@@ -632,6 +640,7 @@ MakeFilter(const TImage * image, const Options & options)
   filter->SetRadiusEdgeBound(options.radiusEdgeBound);
   filter->SetMinimumDihedralAngle(options.minimumDihedralAngle);
   filter->SetMaximumNumberOfVertices(options.maximumNumberOfVertices);
+  filter->SetJoinDiagonalVoxels(options.joinDiagonalVoxels);
   if (options.isoValue)
   {
     filter->SetIsoValue(*options.isoValue);
@@ -687,6 +696,11 @@ MeshImage(const Options & options)
   const Stopwatch meshTime;
   const auto      filter = MakeFilter(image.GetPointer(), options);
   RunFilter(filter.GetPointer(), options.quiet);
+  if (!options.quiet && filter->GetNumberOfJoiningVoxels() > 0)
+  {
+    std::cerr << "joined voxels that touched only along an edge: " << filter->GetNumberOfJoiningVoxels()
+              << " background voxels took a tissue's label (--keep-diagonal-voxels keeps them apart)\n";
+  }
   const delaunay_refinement::TetrahedralMesh & mesh = filter->GetRefinedMesh();
   phaseSeconds.emplace_back("mesh", meshTime.Seconds());
 
@@ -696,7 +710,8 @@ MeshImage(const Options & options)
   if (wantReport)
   {
     const Stopwatch reportTime;
-    // The reference is what the filter meshed: the voxels after label selection, merging or the iso-value.
+    // The reference is what the filter meshed: the voxels after label selection, merging or the iso-value, with
+    // the joining voxels.
     report = delaunay_refinement::ComputeQualityReport(mesh, itk::MakeLabelVolume(filter->GetObjectLabelImage()));
     phaseSeconds.emplace_back("report", reportTime.Seconds());
   }

@@ -47,9 +47,9 @@ struct RefinementParameters
    * boundary vertices are non-manifold (voxel-scale speckle) refining cannot help and is not tried. Must be
    * in [0, 10]. */
   unsigned int manifoldRefinementLevels{ 3 };
-  /** The manifold refinement never takes δ below this: the oracle's resolution (the smallest voxel spacing for
-   * an image, where finer sampling only resolves voxel corners that touch diagonally). 0 = no floor. Must be
-   * finite and >= 0. */
+  /** The manifold refinement never takes δ below this: about the oracle's resolution (the filter uses half the
+   * smallest voxel spacing: finer sampling only resolves voxel corners that touch diagonally). 0 = no floor.
+   * Must be finite and >= 0. */
   double minimumSurfaceSamplingDistance{ 0.0 };
 };
 

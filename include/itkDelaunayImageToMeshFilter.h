@@ -113,11 +113,22 @@ public:
   itkGetConstMacro(MinimumDihedralAngle, double);
 
   /** Where a tissue's boundary comes out non-manifold (a slit or bridge thinner than δ), δ is halved locally
-   * and the refinement resumed, at most this many times (down to δ / 2^levels, never below the smallest voxel
-   * spacing); every guarantee holds with the local δ. Default 3; 0 = the paper's algorithm alone; valid:
+   * and the refinement resumed, at most this many times (down to δ / 2^levels, never below half the smallest
+   * voxel spacing); every guarantee holds with the local δ. Default 3; 0 = the paper's algorithm alone; valid:
    * [0, 10]. */
   itkSetMacro(ManifoldRefinementLevels, unsigned int);
   itkGetConstMacro(ManifoldRefinementLevels, unsigned int);
+
+  /** Join the voxels of a tissue that touch only along an edge, the two other voxels around that edge being
+   * background: one of those two takes the tissue's label (see delaunay_refinement::JoinDiagonalVoxels). There the
+   * voxels' own surface is not a manifold, so a mesh of those voxels as they are would have a non-manifold edge;
+   * joined, they become a bridge one voxel thick. Only with nearest-neighbour labels (the default interpolator);
+   * other interpolators define their own surface. Default on. */
+  itkSetMacro(JoinDiagonalVoxels, bool);
+  itkGetConstMacro(JoinDiagonalVoxels, bool);
+  itkBooleanMacro(JoinDiagonalVoxels);
+  /** How many background voxels the last update gave a tissue's label to join diagonal voxels. */
+  itkGetConstMacro(NumberOfJoiningVoxels, SizeValueType);
 
   /** A cap on the vertices of the triangulation; reaching it raises an exception. Default 10,000,000. */
   itkSetMacro(MaximumNumberOfVertices, SizeValueType);
@@ -202,9 +213,9 @@ public:
     return m_RefinedMesh;
   }
 
-  /** The voxel labels the last update meshed (after label selection, merging or the iso-value), cropped to the
-   * object's voxels and one voxel of background around them (every voxel outside is background): the reference
-   * for fidelity measurements. */
+  /** The voxel labels the last update meshed (after label selection, merging or the iso-value, with the joining
+   * voxels), cropped to the object's voxels and one voxel of background around them (every voxel outside is
+   * background): the reference for fidelity measurements. */
   const ObjectLabelImageType *
   GetObjectLabelImage() const
   {
@@ -246,6 +257,8 @@ private:
   SizeValueType       m_MaximumNumberOfVertices{ 10000000 };
   unsigned int        m_ManifoldRefinementLevels{ 3 };
   bool                m_MergeLabels{ false };
+  bool                m_JoinDiagonalVoxels{ true };
+  SizeValueType       m_NumberOfJoiningVoxels{ 0 };
   InterpolatorPointer m_Interpolator;
   double              m_IsoValue{ 0.0 };
   bool                m_UseIsoValue{ false };

@@ -182,9 +182,11 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
   parameters.minimumDihedralAngle = m_MinimumDihedralAngle;
   parameters.maximumNumberOfVertices = m_MaximumNumberOfVertices;
   parameters.manifoldRefinementLevels = m_ManifoldRefinementLevels;
-  // Below the voxel size, finer sampling resolves voxels that touch only diagonally: never more manifold.
+  // A bridge or slit one voxel thick (a joined diagonal contact is one) needs samples closer than a voxel; below
+  // half a voxel, finer sampling would resolve the corners where voxels still touch diagonally (two tissues, or
+  // at a vertex): never more manifold.
   const auto & spacing = image->GetSpacing();
-  parameters.minimumSurfaceSamplingDistance = *std::min_element(spacing.Begin(), spacing.End());
+  parameters.minimumSurfaceSamplingDistance = 0.5 * *std::min_element(spacing.Begin(), spacing.End());
   try
   {
     delaunay_refinement::ValidateParameters(parameters);
@@ -197,8 +199,9 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
   this->UpdateProgress(0.0f);
   const InterpolatorPointer              interpolator = MakeInterpolator(image);
   const ImageLabelOracle<InputImageType> oracle(
-    image, interpolator, ImageLabelMapping{ m_Labels, m_MergeLabels, m_UseIsoValue, m_IsoValue });
+    image, interpolator, ImageLabelMapping{ m_Labels, m_MergeLabels, m_UseIsoValue, m_IsoValue, m_JoinDiagonalVoxels });
   m_ObjectLabelImage = oracle.GetLabelImage();
+  m_NumberOfJoiningVoxels = oracle.GetNumberOfJoiningVoxels();
   if (oracle.GetNumberOfObjectVoxels() == 0)
   {
     itkExceptionMacro(<< "No voxel of the input is part of the object ("
@@ -306,6 +309,8 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf(std::ostream & os
   os << indent << "MaximumNumberOfVertices: " << m_MaximumNumberOfVertices << std::endl;
   os << indent << "ManifoldRefinementLevels: " << m_ManifoldRefinementLevels << std::endl;
   os << indent << "MergeLabels: " << (m_MergeLabels ? "On" : "Off") << std::endl;
+  os << indent << "JoinDiagonalVoxels: " << (m_JoinDiagonalVoxels ? "On" : "Off") << std::endl;
+  os << indent << "NumberOfJoiningVoxels: " << m_NumberOfJoiningVoxels << std::endl;
   itkPrintSelfObjectMacro(Interpolator);
   os << indent << "IsoValue: " << m_IsoValue << std::endl;
   os << indent << "UseIsoValue: " << (m_UseIsoValue ? "On" : "Off") << std::endl;

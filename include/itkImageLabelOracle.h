@@ -19,6 +19,7 @@
 #define itkImageLabelOracle_h
 
 #include "DelaunayRefinementOracle.h"
+#include "DelaunayRefinementVoxelPinches.h"
 
 #include "itkImage.h"
 #include "itkInterpolateImageFunction.h"
@@ -40,6 +41,10 @@ struct ImageLabelMapping
   /** Gray values: label 1 where the interpolated value is >= isoValue, 0 elsewhere. */
   bool   useIsoValue{ false };
   double isoValue{ 0.0 };
+  /** With nearest-neighbour labels: join the voxels of a label that touch only along an edge (see
+   * delaunay_refinement::JoinDiagonalVoxels), so that the labels' voxel surface has no non-manifold edge
+   * between an object and the background. Off here (the voxels as they are); the filter turns it on. */
+  bool joinDiagonalVoxels{ false };
 };
 
 /** \class ImageLabelOracle
@@ -101,12 +106,20 @@ public:
     return m_NumberOfObjectVoxels;
   }
 
-  /** The voxel labels the oracle sees: the object's voxels and one voxel of background around them (the input's
-   * region padded by one voxel, cropped to that); every voxel outside it is background. */
+  /** The voxel labels the oracle sees: the object's voxels (with the joining voxels, if any) and one voxel of
+   * background around them (the input's region padded by one voxel, cropped to that); every voxel outside it is
+   * background. */
   const LabelImageType *
   GetLabelImage() const
   {
     return m_LabelImage;
+  }
+
+  /** How many background voxels took an object's label to join diagonal voxels (ImageLabelMapping). */
+  SizeValueType
+  GetNumberOfJoiningVoxels() const
+  {
+    return m_NumberOfJoiningVoxels;
   }
 
   /** The label a voxel value maps to. */
@@ -170,6 +183,7 @@ private:
   std::array<SizeValueType, 3>        m_BufferStrides{};
   delaunay_refinement::AxisAlignedBox m_ObjectBounds;
   SizeValueType                       m_NumberOfObjectVoxels{ 0 };
+  SizeValueType                       m_NumberOfJoiningVoxels{ 0 };
   double                              m_SurfaceTolerance{ 0.0 };
 };
 

@@ -138,6 +138,13 @@ ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
   {
     output.Set(MapValueRemembering(static_cast<double>(input.Get()), memo));
   }
+  if (m_Mapping.joinDiagonalVoxels && m_LabelsAreVoxelwise)
+  {
+    // A joining voxel lies between two object voxels, so inside the object's bounds.
+    m_NumberOfJoiningVoxels = delaunay_refinement::JoinDiagonalVoxels(
+      m_LabelImage->GetBufferPointer(), { kept.GetSize()[0], kept.GetSize()[1], kept.GetSize()[2] });
+    m_NumberOfObjectVoxels += m_NumberOfJoiningVoxels;
+  }
   if (m_NumberOfObjectVoxels == 0)
   {
     return;

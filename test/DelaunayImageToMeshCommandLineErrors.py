@@ -26,8 +26,8 @@ import sys
 
 from DelaunayImageToMeshCommandLineTesting import PROGRAM_NAME, check, describe, run
 
-OPTIONS = ["--delta", "--radius-edge", "--min-dihedral", "--labels", "--merge-labels", "--iso", "--max-vertices",
-           "--report", "--quiet", "--version", "--help"]
+OPTIONS = ["--delta", "--radius-edge", "--min-dihedral", "--labels", "--merge-labels", "--keep-diagonal-voxels", "--iso",
+           "--max-vertices", "--report", "--quiet", "--version", "--help"]
 
 
 def error_cases(image, output):

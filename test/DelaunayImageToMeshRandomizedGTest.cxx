@@ -582,6 +582,8 @@ ChooseParameters(RandomCase & randomCase, CaseRandom & random)
   }
   MaybeSelectLabels(randomCase, random);
   settings.mergeLabels = randomCase.family == Family::Mixed && !settings.isoValue && random.Chance(0.1);
+  // Drawn last, so that the other settings of each seed stay what they were before the option existed.
+  settings.joinDiagonalVoxels = !random.Chance(0.2);
 }
 
 RandomCase

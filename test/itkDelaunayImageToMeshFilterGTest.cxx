@@ -1017,6 +1017,65 @@ TEST(BrainMaskReport, VoxelPinchesOfTheInput)
   EXPECT_GT(pinches, 0u);
 }
 
+// ---- Diagonal voxel contacts ------------------------------------------------------------------------------
+
+/** Two boxes of 6 x 6 x 6 voxels of label 1 that share only the edge of 6 voxels along z between them. */
+LabelImageType::Pointer
+BoxesTouchingAlongAnEdge()
+{
+  auto                        image = LabelImageType::New();
+  LabelImageType::SpacingType spacing;
+  spacing[0] = 1.0;
+  spacing[1] = 1.25;
+  spacing[2] = 1.0;
+  image->SetRegions(LabelImageType::SizeType{ { 20, 20, 12 } });
+  image->SetSpacing(spacing);
+  image->Allocate();
+  const auto within = [](long value, long first) { return value >= first && value < first + 6; };
+  for (itk::ImageRegionIteratorWithIndex<LabelImageType> it(image, image->GetBufferedRegion()); !it.IsAtEnd(); ++it)
+  {
+    const auto & index = it.GetIndex();
+    const bool   first = within(index[0], 3) && within(index[1], 3);
+    const bool   second = within(index[0], 9) && within(index[1], 9);
+    it.Set((first || second) && within(index[2], 3) ? 1 : 0);
+  }
+  return image;
+}
+
+template <typename TImage>
+std::size_t
+CountObjectVoxels(const TImage & image)
+{
+  std::size_t count = 0;
+  for (itk::ImageRegionConstIterator<TImage> it(&image, image.GetBufferedRegion()); !it.IsAtEnd(); ++it)
+  {
+    count += it.Get() != 0;
+  }
+  return count;
+}
+
+/** By default the contact is joined by one voxel per voxel edge (a bar of 6 voxels), and the mesh is one closed
+ * manifold with every guarantee; kept apart, nothing is added. */
+TEST(DiagonalVoxels, BoxesTouchingAlongAnEdgeAreJoinedIntoOneManifold)
+{
+  const auto image = BoxesTouchingAlongAnEdge();
+  auto       joined = FilterFor(image.GetPointer(), 1.5);
+  EXPECT_TRUE(joined->GetJoinDiagonalVoxels());
+  const auto meshed = RunFilter<FilterType>(joined);
+  EXPECT_EQ(joined->GetNumberOfJoiningVoxels(), 6u);
+  EXPECT_EQ(CountObjectVoxels(*joined->GetObjectLabelImage()), 2u * 216u + 6u);
+  ExpectGuarantees(*meshed);
+  ExpectClosedManifoldBoundary(*meshed);
+  EXPECT_EQ(meshed->boundary.numberOfComponents, 1);
+  EXPECT_EQ(meshed->boundary.totalGenus, 0);
+
+  auto apart = FilterFor(image.GetPointer(), 1.5);
+  apart->JoinDiagonalVoxelsOff();
+  apart->Update();
+  EXPECT_EQ(apart->GetNumberOfJoiningVoxels(), 0u);
+  EXPECT_EQ(CountObjectVoxels(*apart->GetObjectLabelImage()), 2u * 216u);
+}
+
 // ---- Bad input: a valid mesh or an itk::ExceptionObject naming the problem, never a crash or an empty mesh ----
 
 LabelImageType::Pointer
