@@ -67,8 +67,9 @@ struct CellCache
   static constexpr double NotYetComputed = -1.0;
   Vector3                 circumcenter{ { 0.0, 0.0, 0.0 } };
   double                  squaredRadius{ 0.0 };
-  /** Distance from the circumcentre to the surface; NotYetComputed until a rule asks (most cells are
-   * destroyed before that: the oracle's distance query is the refinement's most expensive per-cell step). */
+  /** Distance from the circumcentre to the surface, or the bound on it that decided IsIntersecting(); NotYetComputed
+   * until a rule asks (most cells are destroyed before that: the oracle's distance query is the refinement's most
+   * expensive per-cell step). */
   double surfaceDistance{ NotYetComputed };
   Label  label{ BackgroundLabel };
   /** Unique per evaluated cell. CGAL recycles freed cells, so a queue entry is current only while its cell
@@ -509,16 +510,20 @@ private:
     CellCache & cache = cell->cache;
     if (cache.surfaceDistance == CellCache::NotYetComputed)
     {
+      // A deciding bound is kept in place of the distance: it gives the same answer when the cell is popped.
       const SurfaceDistanceBounds bounds = m_Oracle.BoundSurfaceDistance(cache.circumcenter);
       if (bounds.upper * bounds.upper <= cache.squaredRadius)
       {
-        return true;
+        cache.surfaceDistance = bounds.upper;
       }
-      if (bounds.lower * bounds.lower > cache.squaredRadius)
+      else if (bounds.lower * bounds.lower > cache.squaredRadius)
       {
-        return false;
+        cache.surfaceDistance = bounds.lower;
       }
-      cache.surfaceDistance = ClosestSurfacePointTo(cache.circumcenter).distance;
+      else
+      {
+        cache.surfaceDistance = ClosestSurfacePointTo(cache.circumcenter).distance;
+      }
     }
     return cache.surfaceDistance * cache.surfaceDistance <= cache.squaredRadius;
   }

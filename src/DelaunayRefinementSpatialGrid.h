@@ -128,6 +128,20 @@ public:
   bool
   AnyWithin(const Vector3 & center, double radius) const
   {
+    // The cell holding the centre first: when an entry is near, it is most often there, and the answer comes
+    // without the other 26 lookups.
+    const uint32_t centerCell = FindCell(KeyOf(center));
+    if (centerCell != NoCell)
+    {
+      const double squaredRadius = radius * radius;
+      for (const Entry & entry : m_Cells[centerCell])
+      {
+        if (SquaredNorm(entry.point - center) < squaredRadius)
+        {
+          return true;
+        }
+      }
+    }
     bool found = false;
     ForEachWithin(center, radius, [&](const TPayload &) {
       found = true;
