@@ -150,6 +150,9 @@ private:
   using InterfaceVoxelCandidates = std::array<uint32_t, 8>;
   InterfaceVoxelCandidates
   InterfaceVoxelsAround(const ContinuousIndex<double, 3> & queryIndex) const;
+  /** A voxel's coordinates in the label image's buffer (from its first voxel) from its 32-bit buffer offset. */
+  std::array<uint32_t, 3>
+  BufferCoordinatesOf(uint32_t offset) const;
   /** Physical distance between two points given by their continuous indices in the label image. */
   double
   IndexDistance(const double * a, const double * b) const;

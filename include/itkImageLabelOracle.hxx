@@ -453,9 +453,9 @@ ImageLabelOracle<TInputImage>::NearestInterfaceFace(const Vector3 & query) const
     {
       continue;
     }
-    const LabelType label = labels[voxel];
-    const uint32_t  coordinates[3] = { voxel % strides[1], (voxel / strides[1]) % sizes[1], voxel / strides[2] };
-    double          center[3];
+    const LabelType               label = labels[voxel];
+    const std::array<uint32_t, 3> coordinates = BufferCoordinatesOf(voxel);
+    double                        center[3];
     for (unsigned int axis = 0; axis < 3; ++axis)
     {
       center[axis] = static_cast<double>(region.GetIndex()[axis]) + static_cast<double>(coordinates[axis]);
@@ -491,6 +491,15 @@ ImageLabelOracle<TInputImage>::NearestInterfaceFace(const Vector3 & query) const
   return { m_LabelImage->ComputeIndex(static_cast<OffsetValueType>(nearestVoxel)),
            m_LabelImage->ComputeIndex(static_cast<OffsetValueType>(nearestNeighbor)),
            std::sqrt(nearestSquaredDistance) };
+}
+
+template <typename TInputImage>
+std::array<uint32_t, 3>
+ImageLabelOracle<TInputImage>::BufferCoordinatesOf(uint32_t offset) const
+{
+  const auto stride1 = static_cast<uint32_t>(m_BufferStrides[1]);
+  const auto size1 = static_cast<uint32_t>(m_LabelImage->GetBufferedRegion().GetSize()[1]);
+  return { offset % stride1, (offset / stride1) % size1, offset / static_cast<uint32_t>(m_BufferStrides[2]) };
 }
 
 template <typename TInputImage>
@@ -538,12 +547,8 @@ ImageLabelOracle<TInputImage>::BoundSurfaceDistance(const Vector3 & query) const
     voxel[axis] = first + static_cast<double>(coordinate);
     voxelOffset += coordinate * strides[axis];
   }
-  const uint32_t interfaceOffset = m_NearestInterfaceVoxel[voxelOffset];
-  const uint32_t interfaceCoordinates[3] = { interfaceOffset % strides[1],
-                                             (interfaceOffset / strides[1]) %
-                                               static_cast<uint32_t>(region.GetSize()[1]),
-                                             interfaceOffset / strides[2] };
-  double         interfaceVoxel[3];
+  const std::array<uint32_t, 3> interfaceCoordinates = BufferCoordinatesOf(m_NearestInterfaceVoxel[voxelOffset]);
+  double                        interfaceVoxel[3];
   for (unsigned int axis = 0; axis < 3; ++axis)
   {
     interfaceVoxel[axis] =
