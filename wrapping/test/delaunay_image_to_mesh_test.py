@@ -52,6 +52,24 @@ def check_mesh(mesh, image, center, delta):
     return cells
 
 
+def check_diagonal_voxels():
+    """Two boxes of label 1 touching along an edge of 5 voxels: joined by default (one voxel per voxel edge), kept
+    apart with join_diagonal_voxels=False."""
+    array = np.zeros((12, 16, 16), np.uint8)  # z, y, x
+    array[3:8, 3:7, 3:7] = 1
+    array[3:8, 7:11, 7:11] = 1
+    image = itk.image_from_array(array)
+    image.SetSpacing(SPACING)
+    joined = itk.DelaunayImageToMeshFilter.New(image, SurfaceSamplingDistance=1.5)
+    assert joined.GetJoinDiagonalVoxels(), "joining is the default"
+    joined.Update()
+    assert joined.GetNumberOfJoiningVoxels() == 5, f"{joined.GetNumberOfJoiningVoxels()} joining voxels"
+    apart = itk.DelaunayImageToMeshFilter.New(image, SurfaceSamplingDistance=1.5, JoinDiagonalVoxels=False)
+    apart.Update()
+    assert apart.GetNumberOfJoiningVoxels() == 0, f"{apart.GetNumberOfJoiningVoxels()} joining voxels when off"
+    print("diagonal voxels: 5 joined by default, none when off")
+
+
 def main():
     delta = 2.0
     for pixel_type in (np.uint8, np.float32):
@@ -72,6 +90,7 @@ def main():
         by_long_name, _ = itk.delaunay_image_to_mesh_filter(image, surface_sampling_distance=delta)
         assert by_long_name.GetNumberOfCells() == cells_from_object, "delta= and surface_sampling_distance= differ"
         print(f"{pixel_type.__name__}: {cells_from_object} tetrahedra, labels and bounds checked")
+    check_diagonal_voxels()
     return 0
 
 
