@@ -52,7 +52,12 @@ public:
       {
         for (std::size_t i = 0; i < m_Size[0]; ++i, ++offset)
         {
-          ForEachPlane([&](int first, int second) { CheckIfInside({ i, j, k }, { offset, first, second }); });
+          ForEachPlane([&](int first, int second) {
+            if (HoldsBlock({ { i, j, k } }, first, second))
+            {
+              Check({ offset, first, second });
+            }
+          });
           ProcessPending();
         }
       }
@@ -76,14 +81,11 @@ private:
     return { { offset % m_Size[0], (offset / m_Size[0]) % m_Size[1], offset / m_Strides[2] } };
   }
 
-  /** Checks the block whose lowest corner is at `coordinates`, if all four of its voxels are in the grid. */
-  void
-  CheckIfInside(const std::array<std::size_t, 3> & coordinates, const VoxelBlock & block)
+  /** Whether all four voxels of the block in plane (first, second) with its lowest corner there are in the grid. */
+  bool
+  HoldsBlock(const std::array<std::size_t, 3> & lowestCorner, int first, int second) const
   {
-    if (coordinates[block.first] + 1 < m_Size[block.first] && coordinates[block.second] + 1 < m_Size[block.second])
-    {
-      Check(block);
-    }
+    return lowestCorner[first] + 1 < m_Size[first] && lowestCorner[second] + 1 < m_Size[second];
   }
 
   void
@@ -142,7 +144,7 @@ private:
           std::array<std::size_t, 3> corner = coordinates;
           corner[first] -= stepFirst;
           corner[second] -= stepSecond;
-          if (corner[first] + 1 < m_Size[first] && corner[second] + 1 < m_Size[second])
+          if (HoldsBlock(corner, first, second))
           {
             m_Pending.push_back(
               { offset - stepFirst * m_Strides[first] - stepSecond * m_Strides[second], first, second });
