@@ -168,6 +168,11 @@ struct MesherRow
   double              memoryBytes{ 0.0 };
   dr::QualityReport   quality;
   dr::TetrahedralMesh mesh;
+  /** Each run's times, in run order: run i of every mesher belongs to the same round of alternation. */
+  std::vector<double> totalSecondsPerRun;
+  std::vector<double> refinementSecondsPerRun;
+  std::vector<double> totalCpuSecondsPerRun;
+  std::vector<double> refinementCpuSecondsPerRun;
 };
 
 /** The runs of one mesher, collected one at a time so that the meshers' runs can alternate. */
@@ -212,6 +217,10 @@ public:
     m_Row.refinementSeconds = Median(m_RefinementSeconds);
     m_Row.refinementCpuSeconds = Median(m_RefinementCpuSeconds);
     m_Row.memoryBytes = Median(m_MemoryBytes);
+    m_Row.totalSecondsPerRun = m_TotalSeconds;
+    m_Row.refinementSecondsPerRun = m_RefinementSeconds;
+    m_Row.totalCpuSecondsPerRun = m_TotalCpuSeconds;
+    m_Row.refinementCpuSecondsPerRun = m_RefinementCpuSeconds;
     Quality(volume);
     std::cerr << "  " << m_Row.mesher << ": " << m_Row.totalSeconds << " s, " << m_Row.mesh.tetrahedra.size()
               << " tetrahedra\n";
@@ -447,6 +456,41 @@ PrintCase(const BenchCase & c, bool oursOnly)
             << Ratio(c.ours.refinementCpuSeconds, c.floorSeconds) << " | |\n";
 }
 
+/** Ours / CGAL round by round (both meshers' run i ran back to back), as "median (min-max)": a drift of the host's
+ * speed between rounds cancels in each ratio, where it does not in a ratio of two medians. */
+std::string
+PairedRatios(const std::vector<double> & ours, const std::vector<double> & cgal)
+{
+  std::vector<double> ratios;
+  for (std::size_t round = 0; round < std::min(ours.size(), cgal.size()); ++round)
+  {
+    ratios.push_back(ours[round] / cgal[round]);
+  }
+  if (ratios.empty())
+  {
+    return "";
+  }
+  return Format(Median(ratios), 2) + " (" + Format(*std::min_element(ratios.begin(), ratios.end()), 2) + "-" +
+         Format(*std::max_element(ratios.begin(), ratios.end()), 2) + ")";
+}
+
+void
+PrintPairedRatios(const std::vector<BenchCase> & cases, int runs)
+{
+  std::cout << "\nours / CGAL (no optimisers) round by round, median (min-max) over the " << runs
+            << " rounds; CGAL's time is its whole run (image copy, domain, make_mesh_3):\n\n"
+            << "| image | δ mm | refine wall | refine cpu | total wall | total cpu |\n"
+            << "|---|---|---|---|---|---|\n";
+  for (const BenchCase & c : cases)
+  {
+    std::cout << "| " << c.image << " | " << Format(c.delta, 1) << " | "
+              << PairedRatios(c.ours.refinementSecondsPerRun, c.cgal.totalSecondsPerRun) << " | "
+              << PairedRatios(c.ours.refinementCpuSecondsPerRun, c.cgal.totalCpuSecondsPerRun) << " | "
+              << PairedRatios(c.ours.totalSecondsPerRun, c.cgal.totalSecondsPerRun) << " | "
+              << PairedRatios(c.ours.totalCpuSecondsPerRun, c.cgal.totalCpuSecondsPerRun) << " |\n";
+  }
+}
+
 std::string
 MatchDescription(const FacetDistanceMatch & match)
 {
@@ -531,6 +575,7 @@ RunBenchmark(const Options & options)
   }
   if (!options.oursOnly)
   {
+    PrintPairedRatios(cases, options.runs);
     PrintFidelityMatches(cases);
   }
   return EXIT_SUCCESS;

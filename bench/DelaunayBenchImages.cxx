@@ -195,6 +195,7 @@ MakeBenchImages(bool quick, const std::string & dataDirectory)
 {
   using Deltas = std::vector<double>;
   const LabelImage::Pointer brainMask = ReadBrainMask(dataDirectory);
+  const LabelImage::Pointer kmeansTissues = ReadKmeansTissues(dataDirectory);
   std::vector<BenchImage>   images;
   images.push_back({ "sphere-64", "generated ball", GenerateSphere(64), quick ? Deltas{ 4 } : Deltas{ 2, 4 } });
   images.push_back({ "torus-64", "generated torus", GenerateTorus(64), quick ? Deltas{ 4 } : Deltas{ 2, 4 } });
@@ -205,16 +206,18 @@ MakeBenchImages(bool quick, const std::string & dataDirectory)
   }
   images.push_back(
     { "brain-mask", "KmeansTest_T1RawSkullStrip, non-zero = brain", brainMask, quick ? Deltas{ 4 } : Deltas{ 2, 4 } });
-  images.push_back({ "kmeans-tissues",
-                     "KmeansTest_T1KmeansPrelimSegmentation, the 5 tissue classes",
-                     ReadKmeansTissues(dataDirectory),
-                     { 4 } });
+  images.push_back(
+    { "kmeans-tissues", "KmeansTest_T1KmeansPrelimSegmentation, the 5 tissue classes", kmeansTissues, { 4 } });
   if (!quick)
   {
     images.push_back({ "brain-mask-1mm",
                        "the brain mask resampled (nearest neighbour) to 1 mm isotropic",
                        ResampleIsotropic(*brainMask, 1.0),
                        { 2 } });
+    images.push_back({ "kmeans-tissues-1mm",
+                       "the k-means tissues resampled (nearest neighbour) to 1 mm isotropic",
+                       ResampleIsotropic(*kmeansTissues, 1.0),
+                       { 4 } });
   }
   for (const BenchImage & benchImage : images)
   {
