@@ -77,7 +77,7 @@ PrintUsage()
        "  --quick      a short run: the small and the 2-3 mm images, one delta each, one run\n"
        "  --runs N     timed runs per mesher, the median is reported (default 3; 1 with --quick)\n"
        "  --images     only these images (sphere-64, torus-64, sphere-128, torus-128, brain-mask,\n"
-       "               kmeans-tissues, brain-mask-1mm)\n"
+       "               kmeans-tissues, brain-mask-1mm, kmeans-tissues-1mm)\n"
        "  --deltas     these delta values (mm) for every selected image instead of each image's own\n"
        "  --ours-only  run our filter only (for profiling)\n"
        "  --data-dir   where ITK's example images are (default "
@@ -189,10 +189,10 @@ public:
   RunOnce()
   {
     MeasuredRun measured = RunInChildProcess(m_Run);
-    m_TotalSeconds.push_back(measured.output.totalSeconds);
-    m_TotalCpuSeconds.push_back(measured.output.totalCpuSeconds);
-    m_RefinementSeconds.push_back(measured.output.refinementSeconds);
-    m_RefinementCpuSeconds.push_back(measured.output.refinementCpuSeconds);
+    m_Row.totalSecondsPerRun.push_back(measured.output.totalSeconds);
+    m_Row.totalCpuSecondsPerRun.push_back(measured.output.totalCpuSeconds);
+    m_Row.refinementSecondsPerRun.push_back(measured.output.refinementSeconds);
+    m_Row.refinementCpuSecondsPerRun.push_back(measured.output.refinementCpuSeconds);
     m_MemoryBytes.push_back(static_cast<double>(measured.meshingMemoryBytes));
     m_Row.mesh = std::move(measured.output.mesh);
   }
@@ -212,15 +212,11 @@ public:
   MesherRow
   Finish(const dr::LabelVolume & volume)
   {
-    m_Row.totalSeconds = Median(m_TotalSeconds);
-    m_Row.totalCpuSeconds = Median(m_TotalCpuSeconds);
-    m_Row.refinementSeconds = Median(m_RefinementSeconds);
-    m_Row.refinementCpuSeconds = Median(m_RefinementCpuSeconds);
+    m_Row.totalSeconds = Median(m_Row.totalSecondsPerRun);
+    m_Row.totalCpuSeconds = Median(m_Row.totalCpuSecondsPerRun);
+    m_Row.refinementSeconds = Median(m_Row.refinementSecondsPerRun);
+    m_Row.refinementCpuSeconds = Median(m_Row.refinementCpuSecondsPerRun);
     m_Row.memoryBytes = Median(m_MemoryBytes);
-    m_Row.totalSecondsPerRun = m_TotalSeconds;
-    m_Row.refinementSecondsPerRun = m_RefinementSeconds;
-    m_Row.totalCpuSecondsPerRun = m_TotalCpuSeconds;
-    m_Row.refinementCpuSecondsPerRun = m_RefinementCpuSeconds;
     Quality(volume);
     std::cerr << "  " << m_Row.mesher << ": " << m_Row.totalSeconds << " s, " << m_Row.mesh.tetrahedra.size()
               << " tetrahedra\n";
@@ -230,10 +226,6 @@ public:
 private:
   std::function<MesherOutput()> m_Run;
   MesherRow                     m_Row;
-  std::vector<double>           m_TotalSeconds;
-  std::vector<double>           m_TotalCpuSeconds;
-  std::vector<double>           m_RefinementSeconds;
-  std::vector<double>           m_RefinementCpuSeconds;
   std::vector<double>           m_MemoryBytes;
   bool                          m_QualityComputed{ false };
 };
@@ -533,7 +525,7 @@ RequireKnownImageNames(const std::vector<BenchImage> & images, const Options & o
     if (std::none_of(images.begin(), images.end(), [&](const BenchImage & image) { return image.name == name; }))
     {
       throw std::invalid_argument("--images: no image \"" + name + "\" in this run's list" +
-                                  (options.quick ? " (--quick leaves out the 128^3 shapes and brain-mask-1mm)" : ""));
+                                  (options.quick ? " (--quick leaves out the 128^3 shapes and the 1 mm grids)" : ""));
     }
   }
 }
