@@ -23,6 +23,7 @@
 #include "DelaunayBenchImages.h"
 #include "DelaunayBenchMeshers.h"
 #include "DelaunayImageToMeshQualityReport.h"
+#include "DelaunayRefinementMeshQuality.h"
 
 #include "itkMultiThreaderBase.h"
 
@@ -160,13 +161,16 @@ Median(std::vector<double> values)
 /** One mesher on one image and δ: medians over the runs, and the (deterministic) mesh's quality. */
 struct MesherRow
 {
-  std::string         mesher;
-  double              totalSeconds{ 0.0 };
-  double              totalCpuSeconds{ 0.0 };
-  double              refinementSeconds{ 0.0 };
-  double              refinementCpuSeconds{ 0.0 };
-  double              memoryBytes{ 0.0 };
-  dr::QualityReport   quality;
+  std::string       mesher;
+  double            totalSeconds{ 0.0 };
+  double            totalCpuSeconds{ 0.0 };
+  double            refinementSeconds{ 0.0 };
+  double            refinementCpuSeconds{ 0.0 };
+  double            memoryBytes{ 0.0 };
+  dr::QualityReport quality;
+  /** Non-manifold edges of the union of the labels (the triangles with the background on one side), where the
+   * quality report counts each label's own boundary. */
+  std::size_t         unionNonManifoldEdges{ 0 };
   dr::TetrahedralMesh mesh;
   /** Each run's times, in run order: run i of every mesher belongs to the same round of alternation. */
   std::vector<double> totalSecondsPerRun;
@@ -174,6 +178,21 @@ struct MesherRow
   std::vector<double> totalCpuSecondsPerRun;
   std::vector<double> refinementCpuSecondsPerRun;
 };
+
+std::size_t
+UnionNonManifoldEdges(const dr::TetrahedralMesh & mesh)
+{
+  std::vector<std::array<uint32_t, 3>> againstBackground;
+  for (std::size_t i = 0; i < mesh.boundaryTriangles.size(); ++i)
+  {
+    const std::array<dr::Label, 2> & labels = mesh.boundaryTriangleLabels[i];
+    if (labels[0] == dr::BackgroundLabel || labels[1] == dr::BackgroundLabel)
+    {
+      againstBackground.push_back(mesh.boundaryTriangles[i]);
+    }
+  }
+  return dr::ComputeSurfaceTopology(mesh.points, againstBackground).nonManifoldEdges;
+}
 
 /** The runs of one mesher, collected one at a time so that the meshers' runs can alternate. */
 class MesherRuns
@@ -204,6 +223,7 @@ public:
     if (!m_QualityComputed)
     {
       m_Row.quality = dr::ComputeQualityReport(m_Row.mesh, volume);
+      m_Row.unionNonManifoldEdges = UnionNonManifoldEdges(m_Row.mesh);
       m_QualityComputed = true;
     }
     return m_Row.quality;
@@ -483,6 +503,21 @@ PrintPairedRatios(const std::vector<BenchCase> & cases, int runs)
   }
 }
 
+void
+PrintNonManifoldEdges(const std::vector<BenchCase> & cases)
+{
+  std::cout << "\nnon-manifold edges, ours / CGAL: summed over the label boundaries (the main table's column) and of "
+               "the union of the labels against the background:\n\n"
+            << "| image | δ mm | label boundaries | union of the labels |\n"
+            << "|---|---|---|---|\n";
+  for (const BenchCase & c : cases)
+  {
+    std::cout << "| " << c.image << " | " << Format(c.delta, 1) << " | " << c.ours.quality.nonManifoldEdges << " / "
+              << c.cgal.quality.nonManifoldEdges << " | " << c.ours.unionNonManifoldEdges << " / "
+              << c.cgal.unionNonManifoldEdges << " |\n";
+  }
+}
+
 std::string
 MatchDescription(const FacetDistanceMatch & match)
 {
@@ -568,6 +603,7 @@ RunBenchmark(const Options & options)
   if (!options.oursOnly)
   {
     PrintPairedRatios(cases, options.runs);
+    PrintNonManifoldEdges(cases);
     PrintFidelityMatches(cases);
   }
   return EXIT_SUCCESS;
