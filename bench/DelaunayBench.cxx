@@ -179,21 +179,6 @@ struct MesherRow
   std::vector<double> refinementCpuSecondsPerRun;
 };
 
-std::size_t
-UnionNonManifoldEdges(const dr::TetrahedralMesh & mesh)
-{
-  std::vector<std::array<uint32_t, 3>> againstBackground;
-  for (std::size_t i = 0; i < mesh.boundaryTriangles.size(); ++i)
-  {
-    const std::array<dr::Label, 2> & labels = mesh.boundaryTriangleLabels[i];
-    if (labels[0] == dr::BackgroundLabel || labels[1] == dr::BackgroundLabel)
-    {
-      againstBackground.push_back(mesh.boundaryTriangles[i]);
-    }
-  }
-  return dr::ComputeSurfaceTopology(mesh.points, againstBackground).nonManifoldEdges;
-}
-
 /** The runs of one mesher, collected one at a time so that the meshers' runs can alternate. */
 class MesherRuns
 {
@@ -223,7 +208,8 @@ public:
     if (!m_QualityComputed)
     {
       m_Row.quality = dr::ComputeQualityReport(m_Row.mesh, volume);
-      m_Row.unionNonManifoldEdges = UnionNonManifoldEdges(m_Row.mesh);
+      // The background's boundary is the union's: the triangles with the background on one side.
+      m_Row.unionNonManifoldEdges = dr::ComputeLabelBoundaryTopology(m_Row.mesh, dr::BackgroundLabel).nonManifoldEdges;
       m_QualityComputed = true;
     }
     return m_Row.quality;
