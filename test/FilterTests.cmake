@@ -83,6 +83,17 @@ if(TARGET DelaunayImageToMeshIO)
     PROPERTIES TIMEOUT 300)
 endif()
 
+# ---- Bit-exact mesh fingerprints ---------------------------------------------------------------------------
+# Proves that a change meant to move code changed no mesh (test/Baseline/MeshFingerprints.txt says how a change
+# meant to alter meshes updates it).
+add_executable(DelaunayImageToMeshFingerprintGTests DelaunayImageToMeshFingerprintGTest.cxx)
+target_link_libraries(DelaunayImageToMeshFingerprintGTests PRIVATE
+  DelaunayImageToMesh ${ITK_LIBRARIES} GTest::gtest_main)
+target_compile_definitions(DelaunayImageToMeshFingerprintGTests PRIVATE
+  DelaunayImageToMesh_EXAMPLES_DATA="${DelaunayImageToMesh_EXAMPLES_DATA}"
+  DelaunayImageToMesh_FINGERPRINT_BASELINE="${DelaunayImageToMesh_BASELINE}/MeshFingerprints.txt")
+gtest_discover_tests(DelaunayImageToMeshFingerprintGTests DISCOVERY_TIMEOUT 120 PROPERTIES TIMEOUT 600)
+
 # ---- Compile-time rejection of 2-D images ------------------------------------------------------------------
 # Passes when compiling a 2-D instantiation fails with the filter's static_assert message. The include
 # directories are the library's (the module's include/ and the generated export header) and ITK's.
