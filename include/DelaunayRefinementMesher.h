@@ -19,6 +19,7 @@
 #define DelaunayRefinementMesher_h
 
 #include "DelaunayRefinementOracle.h"
+#include "DelaunayRefinementParameters.h"
 
 #include <cstddef>
 #include <functional>
@@ -27,35 +28,6 @@
 
 namespace delaunay_refinement
 {
-
-/** Parameters of the refinement (ALGORITHM.md). */
-struct RefinementParameters
-{
-  /** δ: surface sampling distance, in physical units (mm). Must be in (0, 1e30]. */
-  double surfaceSamplingDistance{ 1.0 };
-  /** ρ: radius-edge bound. Must be finite and >= 1. Every output tetrahedron has radius-edge ratio < ρ. */
-  double radiusEdgeBound{ 2.0 };
-  /** σ: minimum dihedral angle in degrees for the R4' variant; 0 (the default) disables it. Must be in [0, 30].
-   * With σ > 0 every output tetrahedron has dihedral angles >= σ, but, as in the paper, nothing is proven:
-   * termination rests on maximumNumberOfVertices and boundary angles may fall below 30°. */
-  double minimumDihedralAngle{ 0.0 };
-  /** Safety cap on the number of vertices of the triangulation; exceeding it throws VertexLimitExceeded. */
-  std::size_t maximumNumberOfVertices{ 10000000 };
-  /** Where a tissue's boundary comes out non-manifold (features thinner than δ), δ is halved locally and the
-   * refinement resumed, at most this many times (down to δ / 2^levels). 0 = the paper's algorithm alone.
-   * Every guarantee holds with the local δ. Only isolated defects are mended: when more than 5 % of the
-   * boundary vertices are non-manifold (voxel-scale speckle) refining cannot help and is not tried. Must be
-   * in [0, 10]. */
-  unsigned int manifoldRefinementLevels{ 3 };
-  /** The manifold refinement never takes δ below this: about the oracle's resolution (the filter uses half the
-   * smallest voxel spacing: finer sampling only resolves voxel corners that touch diagonally). 0 = no floor.
-   * Must be finite and >= 0. */
-  double minimumSurfaceSamplingDistance{ 0.0 };
-};
-
-/** Throws std::invalid_argument naming the parameter, its value and the valid range. */
-DelaunayImageToMesh_EXPORT void
-ValidateParameters(const RefinementParameters & parameters);
 
 /** What the refinement did, counted per rule. */
 struct RefinementStatistics
@@ -117,7 +89,7 @@ public:
   using std::runtime_error::runtime_error;
 };
 
-/** Runs the Delaunay refinement of ALGORITHM.md on `oracle` and returns the tetrahedra whose circumcentre is
+/** Runs the Delaunay refinement of docs/algorithm.md on `oracle` and returns the tetrahedra whose circumcentre is
  * inside the object, each labelled with the oracle's label there, and the boundary triangles.
  *
  * Throws std::invalid_argument for invalid parameters, VertexLimitExceeded, RefinementAborted. An oracle

@@ -1,0 +1,81 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef DelaunayRefinementParameters_h
+#define DelaunayRefinementParameters_h
+
+#include "DelaunayImageToMeshExport.h"
+
+#include <cstddef>
+#include <string>
+
+namespace delaunay_refinement
+{
+
+/** Parameters of the refinement (docs/algorithm.md, "Inputs"), each with its default. The default is written
+ * here only: the ITK filter, the command-line program and ITK Python take theirs from RefinementParameters{}. */
+struct RefinementParameters
+{
+  /** δ: surface sampling distance, in physical units (mm). Must be in (0, 1e30]. */
+  double surfaceSamplingDistance{ 1.0 };
+  /** ρ: radius-edge bound. Must be finite and >= 1. Every output tetrahedron has radius-edge ratio < ρ. */
+  double radiusEdgeBound{ 2.0 };
+  /** σ: minimum dihedral angle in degrees for the R4' variant; 0 (the default) disables it. Must be in [0, 30].
+   * With σ > 0 every output tetrahedron has dihedral angles >= σ, but, as in the paper, nothing is proven:
+   * termination rests on maximumNumberOfVertices and boundary angles may fall below 30°. */
+  double minimumDihedralAngle{ 0.0 };
+  /** Safety cap on the number of vertices of the triangulation; exceeding it throws VertexLimitExceeded. Must be
+   * at least 8 (the bounding box alone has 8). */
+  std::size_t maximumNumberOfVertices{ 10000000 };
+  /** Where a tissue's boundary comes out non-manifold (features thinner than δ), δ is halved locally and the
+   * refinement resumed, at most this many times (down to δ / 2^levels). 0 = the paper's algorithm alone.
+   * Every guarantee holds with the local δ. Only isolated defects are mended: when more than 5 % of the
+   * boundary vertices are non-manifold (voxel-scale speckle) refining cannot help and is not tried. Must be
+   * in [0, 10]. */
+  unsigned int manifoldRefinementLevels{ 3 };
+  /** The manifold refinement never takes δ below this: about the oracle's resolution (the filter uses half the
+   * smallest voxel spacing: finer sampling only resolves voxel corners that touch diagonally). 0 = no floor.
+   * Must be finite and >= 0. */
+  double minimumSurfaceSamplingDistance{ 0.0 };
+};
+
+/** The ends of the valid ranges that are not plain signs, written once: ValidateParameters() checks them. */
+struct ParameterLimits
+{
+  /** Beyond it the bounding box (the object's bounds grown by 3δ) makes the fourth powers of its coordinates in
+   * the circumcentre constructions overflow double precision (NaN circumcentres follow); and no object could be
+   * meshed at such a δ anyway. */
+  static constexpr double LargestSurfaceSamplingDistance = 1e30;
+  static constexpr double SmallestRadiusEdgeBound = 1.0;
+  /** Above 30° no tetrahedral mesh of a general domain is known to exist. */
+  static constexpr double LargestMinimumDihedralAngle = 30.0;
+  /** The bounding box alone has 8 vertices. */
+  static constexpr std::size_t  SmallestMaximumNumberOfVertices = 8;
+  static constexpr unsigned int LargestManifoldRefinementLevels = 10;
+};
+
+/** Throws std::invalid_argument naming the parameter, its value and the valid range. */
+DelaunayImageToMesh_EXPORT void
+ValidateParameters(const RefinementParameters & parameters);
+
+/** A parameter value as the error messages print it: every digit a double holds. */
+DelaunayImageToMesh_EXPORT std::string
+                           DescribeValue(double value);
+
+} // namespace delaunay_refinement
+
+#endif

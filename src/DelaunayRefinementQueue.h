@@ -1,0 +1,194 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef DelaunayRefinementQueue_h
+#define DelaunayRefinementQueue_h
+
+// The refinement's work list (docs/algorithm.md, "Order of work"): the tetrahedra some rule may apply to, in two
+// levels (surface work before quality work), largest circumsphere first, ties broken by vertex ids so that the
+// order never depends on memory addresses.
+
+#include "DelaunayRefinementTriangulation.h"
+
+#include <algorithm>
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace delaunay_refinement
+{
+namespace detail
+{
+
+/** Queue levels: surface work first (its feature insertions delete nearby free vertices, so quality work
+ * done before it would be wasted), then quality work. */
+enum class QueueLevel : int
+{
+  Surface = 0,
+  Quality = 1
+};
+
+/** 40 bytes: popping sifts entries through a heap of hundreds of thousands of them. */
+struct QueueEntry
+{
+  double     squaredRadius;
+  CellHandle cell;
+  uint64_t   stamp;
+  /** The cell's vertex ids, sorted: a tie-break that depends on the geometry and the (canonical) insertion
+   * order only, never on memory addresses, which CGAL's vertex removal lets leak into container orders. */
+  std::array<VertexId, 4> vertexIds;
+};
+
+/** Largest tetrahedra first; equal sizes (co-spherical cells) by vertex ids, for determinism. */
+struct QueueEntryOrder
+{
+  bool
+  operator()(const QueueEntry & a, const QueueEntry & b) const
+  {
+    if (a.squaredRadius != b.squaredRadius)
+    {
+      return a.squaredRadius < b.squaredRadius;
+    }
+    return a.vertexIds > b.vertexIds;
+  }
+};
+
+/** A max-heap with four children per node: half the depth of a binary heap, and a node's children share a cache
+ * line or two, so popping from hundreds of thousands of entries misses the cache about half as often. */
+class FourAryHeap
+{
+public:
+  bool
+  Empty() const
+  {
+    return m_Entries.empty();
+  }
+
+  std::size_t
+  Size() const
+  {
+    return m_Entries.size();
+  }
+
+  void
+  Push(const QueueEntry & entry)
+  {
+    std::size_t position = m_Entries.size();
+    m_Entries.push_back(entry);
+    while (position > 0)
+    {
+      const std::size_t parent = (position - 1) / Arity;
+      if (!m_Before(m_Entries[parent], entry))
+      {
+        break;
+      }
+      m_Entries[position] = m_Entries[parent];
+      position = parent;
+    }
+    m_Entries[position] = entry;
+  }
+
+  /** Removes and returns the greatest entry; the heap must not be empty. */
+  QueueEntry
+  Pop()
+  {
+    const QueueEntry top = m_Entries.front();
+    const QueueEntry last = m_Entries.back();
+    m_Entries.pop_back();
+    if (!m_Entries.empty())
+    {
+      SiftDown(last);
+    }
+    return top;
+  }
+
+private:
+  static constexpr std::size_t Arity = 4;
+
+  /** Places `entry` from the root down, moving greater children up. */
+  void
+  SiftDown(const QueueEntry & entry)
+  {
+    const std::size_t size = m_Entries.size();
+    std::size_t       position = 0;
+    for (;;)
+    {
+      const std::size_t firstChild = Arity * position + 1;
+      if (firstChild >= size)
+      {
+        break;
+      }
+      std::size_t greatest = firstChild;
+      for (std::size_t child = firstChild + 1; child < std::min(firstChild + Arity, size); ++child)
+      {
+        if (m_Before(m_Entries[greatest], m_Entries[child]))
+        {
+          greatest = child;
+        }
+      }
+      if (!m_Before(entry, m_Entries[greatest]))
+      {
+        break;
+      }
+      m_Entries[position] = m_Entries[greatest];
+      position = greatest;
+    }
+    m_Entries[position] = entry;
+  }
+
+  std::vector<QueueEntry> m_Entries;
+  QueueEntryOrder         m_Before;
+};
+
+/** One heap per level, the surface level's emptied first: the level is then never compared. */
+class RefinementQueue
+{
+public:
+  void
+  Push(QueueLevel level, const QueueEntry & entry)
+  {
+    m_Levels[static_cast<int>(level)].Push(entry);
+  }
+
+  bool
+  Empty() const
+  {
+    return m_Levels[0].Empty() && m_Levels[1].Empty();
+  }
+
+  std::size_t
+  Size() const
+  {
+    return m_Levels[0].Size() + m_Levels[1].Size();
+  }
+
+  /** The next entry to process; the queue must not be empty. */
+  QueueEntry
+  Pop()
+  {
+    return (m_Levels[0].Empty() ? m_Levels[1] : m_Levels[0]).Pop();
+  }
+
+private:
+  std::array<FourAryHeap, 2> m_Levels;
+};
+
+} // namespace detail
+} // namespace delaunay_refinement
+
+#endif

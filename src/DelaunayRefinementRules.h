@@ -1,0 +1,277 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef DelaunayRefinementRules_h
+#define DelaunayRefinementRules_h
+
+// The rules R1-R4 and R4' (docs/algorithm.md, "Rules"): for a tetrahedron, whether some rule may apply to it
+// (Classify, asked once when it is created) and which rule applies and what point it inserts (FindApplicableRule,
+// asked when it is popped). Each rule's test and its point stand side by side; the quality test (R4, R4') is
+// written once and serves both questions, as CGAL Mesh_3's compute_badness and TetGen's checktet4split do. The
+// rules only read the mesh: what their actions do to it is the driver's and the mesh state's business.
+
+#include "DelaunayRefinementGeometry.h"
+#include "DelaunayRefinementMeshQuality.h"
+#include "DelaunayRefinementMeshState.h"
+#include "DelaunayRefinementQueue.h"
+#include "DelaunayRefinementSizing.h"
+
+#include <array>
+#include <cmath>
+#include <optional>
+
+namespace delaunay_refinement
+{
+namespace detail
+{
+
+/** Rules, in the order docs/algorithm.md checks them. */
+enum class Rule
+{
+  R1,
+  R2,
+  R3,
+  R4,
+  R4Dihedral
+};
+
+/** A rule that applies to a tetrahedron, with the point it wants inserted. */
+struct Action
+{
+  Rule    rule;
+  Vector3 point;
+  /** The sampling distance the insertion honours (the local δ, or less for R3, see LargeSurfaceBall): a new
+   * feature vertex clears the free vertices within twice it, as the paper's do within 2δ. */
+  double localDelta;
+};
+
+/** The rules, asked of one tetrahedron at a time. */
+class RefinementRules
+{
+public:
+  /** `box` is the bounding box, set before the first cell is classified. */
+  RefinementRules(const LabelOracle & oracle, const RefinementParameters & parameters, const MeshState & state,
+                  const LocalSampling & sizing, const AxisAlignedBox & box)
+    : m_Oracle(oracle)
+    , m_Parameters(parameters)
+    , m_Delta(parameters.surfaceSamplingDistance)
+    , m_State(state)
+    , m_Sizing(sizing)
+    , m_Box(box)
+  {}
+
+  /** Which queue a tetrahedron belongs in, or none when no rule can ever apply to it while it exists. */
+  std::optional<QueueLevel>
+  Classify(CellHandle cell) const
+  {
+    // The label test first: it is cheap and often decides without the oracle's distance.
+    if (HasLabelChangeAcrossAFacet(cell) || IsIntersecting(cell))
+    {
+      return QueueLevel::Surface;
+    }
+    if (cell->cache.label != BackgroundLabel && QualityRuleFor(cell))
+    {
+      return QueueLevel::Quality;
+    }
+    return std::nullopt;
+  }
+
+  /** R1, R2, R3, R4 (and R4'), checked in that order: the first that applies. */
+  std::optional<Action>
+  FindApplicableRule(CellHandle cell) const
+  {
+    const CellCache & cache = cell->cache;
+    if (IsIntersecting(cell))
+    {
+      const SurfacePoint closest = ClosestSurfacePointTo(cache.circumcenter);
+      const double       deltaAtClosest = m_Sizing.LocalDelta(closest.point);
+      if (!m_State.AnyFeatureVertexWithin(closest.point, deltaAtClosest))
+      {
+        return Action{ Rule::R1, closest.point, deltaAtClosest };
+      }
+      const double deltaAtCenter = m_Sizing.LocalDelta(cache.circumcenter);
+      if (cache.squaredRadius >= 4.0 * deltaAtCenter * deltaAtCenter)
+      {
+        return Action{ Rule::R2, cache.circumcenter, deltaAtCenter };
+      }
+    }
+    if (const std::optional<Action> surfaceBall = LargeSurfaceBall(cell))
+    {
+      return surfaceBall;
+    }
+    // R4. docs/algorithm.md calls a tetrahedron skinny only when it is not intersecting; we also split
+    // intersecting ones (left here by R1-R3 with r < 2δ), because otherwise an output tetrahedron can have
+    // radius-edge ratio up to 2 > ρ when ρ < 2 (the paper's proof of Theorem 2 skips this case). For ρ >= 2
+    // nothing changes: such a tetrahedron has r < 2δ and every edge >= δ (Lemma 2), so its ratio is < 2.
+    if (cache.label != BackgroundLabel)
+    {
+      if (const std::optional<Rule> rule = QualityRuleFor(cell))
+      {
+        return Action{ *rule, cache.circumcenter, m_Delta };
+      }
+    }
+    return std::nullopt;
+  }
+
+private:
+  /** The oracle's closest surface point, remembered for the last query: R1 asks for the point right after
+   * IsIntersecting() asked for its distance, and the image oracle's search is its most expensive call. */
+  const SurfacePoint &
+  ClosestSurfacePointTo(const Vector3 & query) const
+  {
+    if (!(m_LastSurfaceQueryValid && query == m_LastSurfaceQuery))
+    {
+      m_LastSurfacePoint = m_Oracle.ClosestSurfacePoint(query);
+      m_LastSurfaceQuery = query;
+      m_LastSurfaceQueryValid = true;
+    }
+    return m_LastSurfacePoint;
+  }
+
+  /** Whether the cell's circumsphere meets the surface. The oracle's cheap distance bounds decide most cells;
+   * the others get the circumcentre's distance to the surface, cached. Classification asks this of every new
+   * cell, and nearly half of them are destroyed before they are popped, so the closest point itself waits until
+   * R1 asks for it. The answer is the same either way, so the mesh does not depend on the bounds. */
+  bool
+  IsIntersecting(CellHandle cell) const
+  {
+    CellCache & cache = cell->cache;
+    if (cache.surfaceDistance == CellCache::NotYetComputed)
+    {
+      // A deciding bound is kept in place of the distance: it gives the same answer when the cell is popped.
+      const SurfaceDistanceBounds bounds = m_Oracle.BoundSurfaceDistance(cache.circumcenter);
+      if (bounds.upper * bounds.upper <= cache.squaredRadius)
+      {
+        cache.surfaceDistance = bounds.upper;
+      }
+      else if (bounds.lower * bounds.lower > cache.squaredRadius)
+      {
+        cache.surfaceDistance = bounds.lower;
+      }
+      else
+      {
+        cache.surfaceDistance = ClosestSurfacePointTo(cache.circumcenter).distance;
+      }
+    }
+    return cache.surfaceDistance * cache.surfaceDistance <= cache.squaredRadius;
+  }
+
+  bool
+  HasLabelChangeAcrossAFacet(CellHandle cell) const
+  {
+    for (int facet = 0; facet < 4; ++facet)
+    {
+      if (m_State.LabelBeyondFacet(cell, facet) != cell->cache.label)
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  /** R4 and R4': the rule that splits the tetrahedron for its shape (radius-edge ratio >= ρ, then a dihedral
+   * angle below σ), if any. Both Classify and FindApplicableRule ask this, so the test exists once. */
+  std::optional<Rule>
+  QualityRuleFor(CellHandle cell) const
+  {
+    const std::array<Vector3, 4> corners = m_State.CornersOf(cell);
+    if (std::sqrt(cell->cache.squaredRadius) >= m_Parameters.radiusEdgeBound * ShortestEdgeLength(corners))
+    {
+      return Rule::R4;
+    }
+    if (IsSliver(corners))
+    {
+      return Rule::R4Dihedral;
+    }
+    return std::nullopt;
+  }
+
+  /** R4' (the paper's variant, on when σ > 0): a dihedral angle below σ. Like the paper, every such sliver
+   * with its circumcentre inside is split, so the output's dihedral angles are >= σ. The paper proves nothing
+   * for R4': termination rests on the vertex cap, and its free vertices may come closer than δ to others,
+   * so the 30° bound on boundary angles (Theorem 2) is not guaranteed while σ > 0. */
+  bool
+  IsSliver(const std::array<Vector3, 4> & corners) const
+  {
+    return m_Parameters.minimumDihedralAngle > 0.0 && MinimumDihedralAngle(corners) < m_Parameters.minimumDihedralAngle;
+  }
+
+  double
+  ShortestFacetEdge(CellHandle cell, int facet) const
+  {
+    const Vector3 a = m_State.PointOf(cell->vertex((facet + 1) & 3));
+    const Vector3 b = m_State.PointOf(cell->vertex((facet + 2) & 3));
+    const Vector3 c = m_State.PointOf(cell->vertex((facet + 3) & 3));
+    return std::sqrt(std::min({ SquaredNorm(a - b), SquaredNorm(b - c), SquaredNorm(c - a) }));
+  }
+
+  /** The far end of the Voronoi ray dual to a convex-hull facet: beyond the box, so labelled background. */
+  Vector3
+  FarEndOfVoronoiRay(CellHandle cell, int facet) const
+  {
+    const Vector3 normal = OutwardFaceNormal(m_State.CornersOf(cell), facet);
+    const double  boxDiagonal = Distance(m_Box.lower, m_Box.upper);
+    return cell->cache.circumcenter + (2.0 * boxDiagonal / Norm(normal)) * normal;
+  }
+
+  /** R3: the largest surface ball among the cell's restricted facets whose radius reaches the facet's
+   * threshold: the local δ at the ball's centre, or the facet's shortest edge if shorter. Where δ is uniform
+   * every edge is >= δ (Lemma 2) and this is the paper's rule; where δ was refined locally it also splits any
+   * restricted facet with circumradius >= its shortest edge, so boundary angles > 30° hold there too. The new
+   * vertex is at least the ball's radius from every vertex, so edges never get shorter than they were. */
+  std::optional<Action>
+  LargeSurfaceBall(CellHandle cell) const
+  {
+    std::optional<Action> best;
+    double                bestSquaredRadius = 0.0;
+    for (int facet = 0; facet < 4; ++facet)
+    {
+      const Label otherLabel = m_State.LabelBeyondFacet(cell, facet);
+      if (otherLabel == cell->cache.label)
+      {
+        continue;
+      }
+      const CellHandle neighbor = cell->neighbor(facet);
+      const Vector3    otherEnd = m_State.GetTriangulation().is_infinite(neighbor) ? FarEndOfVoronoiRay(cell, facet)
+                                                                                   : neighbor->cache.circumcenter;
+      const Vector3    center = m_Oracle.SurfaceCrossing(cell->cache.circumcenter, otherEnd);
+      const double     squaredRadius = SquaredNorm(center - m_State.PointOf(cell->vertex((facet + 1) & 3)));
+      const double     threshold = std::min(m_Sizing.LocalDelta(center), ShortestFacetEdge(cell, facet));
+      if (squaredRadius >= threshold * threshold && squaredRadius > bestSquaredRadius)
+      {
+        bestSquaredRadius = squaredRadius;
+        best = Action{ Rule::R3, center, threshold };
+      }
+    }
+    return best;
+  }
+
+  const LabelOracle &          m_Oracle;
+  const RefinementParameters & m_Parameters;
+  const double                 m_Delta;
+  const MeshState &            m_State;
+  const LocalSampling &        m_Sizing;
+  const AxisAlignedBox &       m_Box;
+  mutable Vector3              m_LastSurfaceQuery{};
+  mutable SurfacePoint         m_LastSurfacePoint{};
+  mutable bool                 m_LastSurfaceQueryValid{ false };
+};
+
+} // namespace detail
+} // namespace delaunay_refinement
+
+#endif

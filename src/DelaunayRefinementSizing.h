@@ -1,0 +1,112 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef DelaunayRefinementSizing_h
+#define DelaunayRefinementSizing_h
+
+// The sizing field (docs/algorithm.md, "Local sampling distance"): the δ each rule uses at a point. It is δ
+// everywhere unless the manifold repair refined around a place, as CGAL Mesh_3's sizing fields are queried by
+// its criteria.
+
+#include "DelaunayRefinementSpatialGrid.h"
+#include "DelaunayRefinementTypes.h"
+
+#include <algorithm>
+#include <cstddef>
+#include <vector>
+
+namespace delaunay_refinement
+{
+namespace detail
+{
+
+/** The local surface sampling distance: δ everywhere, except in balls around places where the restricted
+ * surface was not a 2-manifold, where it is halved once per refinement level. */
+class LocalSampling
+{
+public:
+  explicit LocalSampling(double delta)
+    : m_Delta(delta)
+    , m_ZoneCenters(2.0 * ZoneRadiusFactor * delta)
+  {}
+
+  double
+  LocalDelta(const Vector3 & point) const
+  {
+    double delta = m_Delta;
+    if (m_Zones.empty())
+    {
+      return delta;
+    }
+    m_ZoneCenters.ForEachWithin(point, ZoneRadiusFactor * m_Delta, [&](std::size_t zone) {
+      if (SquaredNorm(point - m_Zones[zone].center) < m_Zones[zone].squaredRadius)
+      {
+        delta = std::min(delta, m_Zones[zone].delta);
+      }
+    });
+    return delta;
+  }
+
+  /** Samples at `delta` around `point` (where that is finer than elsewhere); the zone covers the facets around
+   * it. Returns the zone's radius: outside it nothing changed. */
+  double
+  AddZone(const Vector3 & point, double delta)
+  {
+    const double radius = ZoneRadiusFactor * 2.0 * delta;
+    m_ZoneCenters.Insert(point, m_Zones.size());
+    m_Zones.push_back({ point, radius * radius, delta });
+    return radius;
+  }
+
+  std::size_t
+  NumberOfZones() const
+  {
+    return m_Zones.size();
+  }
+
+  double
+  FinestDelta() const
+  {
+    double finest = m_Delta;
+    for (const Zone & zone : m_Zones)
+    {
+      finest = std::min(finest, zone.delta);
+    }
+    return finest;
+  }
+
+private:
+  /** Zone radius in units of the sampling distance it refines: wide enough to hold the restricted facets
+   * (circumradius < δ) around the offending vertex. */
+  static constexpr double ZoneRadiusFactor = 3.0;
+
+  struct Zone
+  {
+    Vector3 center;
+    double  squaredRadius;
+    double  delta;
+  };
+
+  double                   m_Delta;
+  std::vector<Zone>        m_Zones;
+  SpatialGrid<std::size_t> m_ZoneCenters;
+};
+
+} // namespace detail
+} // namespace delaunay_refinement
+
+#endif
