@@ -42,7 +42,7 @@ struct SurfaceDistanceBounds
 /** \class LabelOracle
  * \brief What the refinement knows of the object: a label-valued function of physical space.
  *
- * The surface (written ∂Ω in ALGORITHM.md) is where the label changes: object/background boundaries and
+ * The surface (written ∂Ω in docs/algorithm.md) is where the label changes: object/background boundaries and
  * tissue/tissue interfaces alike. Implementations must be deterministic and safe to call from one thread
  * at a time. Outside ObjectBounds() every label must be BackgroundLabel. */
 class DelaunayImageToMesh_EXPORT LabelOracle

@@ -86,7 +86,8 @@ public:
   using ObjectLabelImageType = Image<LabelType, 3>;
 
   /** δ, the surface sampling distance in physical units (mm): smaller is finer and closer to the surface.
-   * 0 (the default) picks 4 × the largest voxel spacing. Valid: 0 or a value in (0, 1e30]. */
+   * 0 (the default) picks 4 × the largest voxel spacing. Valid: 0 or a value in (0, 1e30]
+   * (delaunay_refinement::ParameterLimits). */
   itkSetMacro(SurfaceSamplingDistance, double);
   itkGetConstMacro(SurfaceSamplingDistance, double);
   /** δ under the paper's name, the same parameter: ITK Python's functional form then reads
@@ -250,15 +251,16 @@ private:
   void
   FillOutputs(const delaunay_refinement::TetrahedralMesh & mesh);
 
-  double              m_SurfaceSamplingDistance{ 0.0 };
-  double              m_EffectiveSurfaceSamplingDistance{ 0.0 };
-  double              m_RadiusEdgeBound{ 2.0 };
-  double              m_MinimumDihedralAngle{ 0.0 };
-  SizeValueType       m_MaximumNumberOfVertices{ 10000000 };
-  unsigned int        m_ManifoldRefinementLevels{ 3 };
-  bool                m_MergeLabels{ false };
-  bool                m_JoinDiagonalVoxels{ true };
-  SizeValueType       m_NumberOfJoiningVoxels{ 0 };
+  double m_SurfaceSamplingDistance{ 0.0 };
+  double m_EffectiveSurfaceSamplingDistance{ 0.0 };
+  // The refinement's defaults are the core's, written once in RefinementParameters.
+  double        m_RadiusEdgeBound{ delaunay_refinement::RefinementParameters{}.radiusEdgeBound };
+  double        m_MinimumDihedralAngle{ delaunay_refinement::RefinementParameters{}.minimumDihedralAngle };
+  SizeValueType m_MaximumNumberOfVertices{ delaunay_refinement::RefinementParameters{}.maximumNumberOfVertices };
+  unsigned int  m_ManifoldRefinementLevels{ delaunay_refinement::RefinementParameters{}.manifoldRefinementLevels };
+  bool          m_MergeLabels{ false };
+  bool          m_JoinDiagonalVoxels{ true };
+  SizeValueType m_NumberOfJoiningVoxels{ 0 };
   InterpolatorPointer m_Interpolator;
   double              m_IsoValue{ 0.0 };
   bool                m_UseIsoValue{ false };

@@ -134,12 +134,8 @@ template <typename TInputImage, typename TOutputMesh>
 double
 DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::ResolveSurfaceSamplingDistance(const InputImageType * image) const
 {
-  if (!(m_SurfaceSamplingDistance >= 0.0) || !std::isfinite(m_SurfaceSamplingDistance))
-  {
-    itkExceptionMacro(<< "Invalid SurfaceSamplingDistance (delta) = " << m_SurfaceSamplingDistance
-                      << ": the valid range is 0 (automatic) or a finite value > 0, in physical units (mm).");
-  }
-  if (m_SurfaceSamplingDistance > 0.0)
+  // Any value but the automatic 0 goes to the core as it is: ValidateParameters() holds the valid range.
+  if (m_SurfaceSamplingDistance != 0.0)
   {
     return m_SurfaceSamplingDistance;
   }

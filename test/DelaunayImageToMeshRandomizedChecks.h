@@ -20,7 +20,7 @@
 
 // What the randomized GoogleTest and the libFuzzer target (fuzz/) share: running the filter on an arbitrary
 // image with arbitrary parameters, sorting its outcome into "a mesh" or one of the documented exceptions, and
-// every guarantee of ALGORITHM.md checked on the mesh the filter returned (with the measures of
+// every guarantee of docs/algorithm.md checked on the mesh the filter returned (with the measures of
 // DelaunayRefinementMeshQuality.h, on the mesh converted as the filter's tests convert it). No GoogleTest here:
 // the fuzzer aborts on a violation instead of failing a test.
 

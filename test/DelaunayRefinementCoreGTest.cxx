@@ -16,7 +16,7 @@
  *
  *=========================================================================*/
 
-// The refinement core on analytic shapes. Every guarantee of ALGORITHM.md is recomputed here from the
+// The refinement core on analytic shapes. Every guarantee of docs/algorithm.md is recomputed here from the
 // produced mesh with the independent measures of DelaunayRefinementMeshQuality.h; nothing the refinement
 // reports about itself is trusted, and no bound is loosened beyond floating-point slack.
 

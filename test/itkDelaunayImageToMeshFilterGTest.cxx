@@ -106,7 +106,7 @@ FilterFor(const TImage * image, double delta)
   return filter;
 }
 
-/** The guarantees of ALGORITHM.md that hold for any object with ρ >= 1 and σ = 0: well-formed tetrahedra,
+/** The guarantees of docs/algorithm.md that hold for any object with ρ >= 1 and σ = 0: well-formed tetrahedra,
  * radius-edge < ρ, boundary planar angles > 30°, Lemma 2's shortest edges, every boundary triangle inside
  * its surface ball (radius < δ by R3, so circumradius < δ), with ρ >= 2 only feature vertices on the
  * boundary (Lemma 5, where δ is uniform), and a boundary that is exactly the facets between different labels. */

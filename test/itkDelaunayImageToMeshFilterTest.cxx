@@ -143,7 +143,7 @@ CheckOutputs(FilterType * filter)
   return EXIT_SUCCESS;
 }
 
-/** ALGORITHM.md's two quality guarantees at ρ = 2, and a closed boundary. */
+/** docs/algorithm.md's two quality guarantees at ρ = 2, and a closed boundary. */
 int
 CheckGuarantees(FilterType * filter)
 {
