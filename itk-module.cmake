@@ -8,6 +8,13 @@ itk_module(DelaunayImageToMesh
     ITKCommon
     ITKMesh
     ITKImageFunction
+  # Not linked by the library: the command-line program (examples/) reads images through them, and inside an ITK
+  # tree they must be configured before this module for its find_package(ITK COMPONENTS ...) to see them.
+  COMPILE_DEPENDS
+    ITKIOImageBase
+    ITKIONIFTI
+    ITKIONRRD
+    ITKIOMeta
   TEST_DEPENDS
     ITKTestKernel
     ITKIOImageBase
