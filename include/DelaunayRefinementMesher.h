@@ -49,8 +49,11 @@ struct RefinementStatistics
    * instead of inside one of its facets, so that no box facet could be chosen (measure zero; expected 0). */
   std::size_t unresolvedBoxEncroachments{ 0 };
   /** Rounds of local refinement for manifoldness, the zones of smaller δ they created, and the boundary
-   * vertices still non-manifold at the end (0 unless the levels ran out, e.g. on voxel-scale speckle). */
+   * places (vertex and label) still non-manifold at the end. */
   std::size_t manifoldRefinementRounds{ 0 };
+  /** Rounds of the topology regularisation, and the balls in which it changed the oracle's labels. */
+  std::size_t topologyRegularizationRounds{ 0 };
+  std::size_t regularizedPlaces{ 0 };
   std::size_t manifoldRefinementZones{ 0 };
   std::size_t remainingNonManifoldVertices{ 0 };
   /** The smallest local δ the refinement used (δ itself unless the manifold refinement refined somewhere):
@@ -92,12 +95,16 @@ public:
 /** Runs the Delaunay refinement of docs/algorithm.md on `oracle` and returns the tetrahedra whose circumcentre is
  * inside the object, each labelled with the oracle's label there, and the boundary triangles.
  *
+ * With a `regularizer` (usually the oracle itself), where a boundary comes out non-manifold the oracle's labels
+ * are regularised there and the refinement resumes (RefinementParameters::topologyRegularizationRounds).
+ *
  * Throws std::invalid_argument for invalid parameters, VertexLimitExceeded, RefinementAborted. An oracle
  * with empty ObjectBounds() gives an empty mesh. Deterministic: the same oracle and parameters give the same
  * mesh. */
 DelaunayImageToMesh_EXPORT TetrahedralMesh
 RefineMesh(const LabelOracle & oracle, const RefinementParameters & parameters,
-           RefinementStatistics * statistics = nullptr, const ProgressObserver & observer = {});
+           RefinementStatistics * statistics = nullptr, const ProgressObserver & observer = {},
+           TopologyRegularizer * regularizer = nullptr);
 
 } // namespace delaunay_refinement
 

@@ -21,6 +21,7 @@
 #include "DelaunayRefinementTypes.h"
 
 #include <limits>
+#include <vector>
 
 namespace delaunay_refinement
 {
@@ -81,6 +82,36 @@ public:
 
 protected:
   LabelOracle() = default;
+};
+
+/** A place where the boundary of the region labelled `label` (its facets against every other label) is not a
+ * 2-manifold: one of its vertices. BackgroundLabel stands for the union of the tissues against the background. */
+struct NonManifoldPlace
+{
+  Vector3 point{ { 0.0, 0.0, 0.0 } };
+  Label   label{ BackgroundLabel };
+};
+
+/** \class TopologyRegularizer
+ * \brief An oracle whose labels can be regularised further where the mesh's boundaries came out non-manifold
+ * (docs/algorithm.md, "Topology").
+ *
+ * The refinement calls it between rounds only, never while it asks the oracle anything else: an oracle that is
+ * also a TopologyRegularizer may change what LabelAt() and the surface queries answer inside the returned balls,
+ * and nowhere else. */
+class DelaunayImageToMesh_EXPORT TopologyRegularizer
+{
+public:
+  virtual ~TopologyRegularizer();
+
+  /** Changes the labels in a ball of `radius` around each place, in the given order, so that the place's label
+   * either fills the ball or leaves it (whichever changes less). Returns the balls in which a label changed;
+   * none when nothing could be changed. */
+  virtual std::vector<Ball>
+  RegularizeAround(const std::vector<NonManifoldPlace> & places, double radius) = 0;
+
+protected:
+  TopologyRegularizer() = default;
 };
 
 /** Bisection of [a, b] on oracle.LabelAt(), down to `tolerance`; the labels at a and b must differ. Returns

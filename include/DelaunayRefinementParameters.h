@@ -41,12 +41,16 @@ struct RefinementParameters
   /** Safety cap on the number of vertices of the triangulation; exceeding it throws VertexLimitExceeded. Must be
    * at least 8 (the bounding box alone has 8). */
   std::size_t maximumNumberOfVertices{ 10000000 };
-  /** Where a tissue's boundary comes out non-manifold (features thinner than δ), δ is halved locally and the
-   * refinement resumed, at most this many times (down to δ / 2^levels). 0 = the paper's algorithm alone.
+  /** Where a boundary comes out non-manifold and the oracle is a TopologyRegularizer, its labels are regularised
+   * in a ball of radius δ around each such place and the refinement resumes there, at most this many rounds
+   * (docs/algorithm.md, "Topology"). 0 = never. Must be in [0, 20]. */
+  unsigned int topologyRegularizationRounds{ 6 };
+  /** The old repair, an opt-in: where a tissue's boundary comes out non-manifold, δ is halved locally and the
+   * refinement resumed, at most this many times (down to δ / 2^levels), after the regularisation rounds. It
+   * resolves detail toward the voxel instead of removing it: meshes several times larger. 0 (the default) = off.
    * Every guarantee holds with the local δ. Only isolated defects are mended: when more than 5 % of the
-   * boundary vertices are non-manifold (voxel-scale speckle) refining cannot help and is not tried. Must be
-   * in [0, 10]. */
-  unsigned int manifoldRefinementLevels{ 3 };
+   * boundary vertices are non-manifold refining cannot help and is not tried. Must be in [0, 10]. */
+  unsigned int manifoldRefinementLevels{ 0 };
   /** The manifold refinement never takes δ below this: about the oracle's resolution (the filter uses half the
    * smallest voxel spacing: finer sampling only resolves voxel corners that touch diagonally). 0 = no floor.
    * Must be finite and >= 0. */
@@ -66,6 +70,7 @@ struct ParameterLimits
   /** The bounding box alone has 8 vertices. */
   static constexpr std::size_t  SmallestMaximumNumberOfVertices = 8;
   static constexpr unsigned int LargestManifoldRefinementLevels = 10;
+  static constexpr unsigned int LargestTopologyRegularizationRounds = 20;
 };
 
 /** Throws std::invalid_argument naming the parameter, its value and the valid range. */

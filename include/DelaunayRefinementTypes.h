@@ -102,6 +102,13 @@ struct AxisAlignedBox
   }
 };
 
+/** A ball in physical space. */
+struct Ball
+{
+  Vector3 center{ { 0.0, 0.0, 0.0 } };
+  double  radius{ 0.0 };
+};
+
 /** Kind of a mesh vertex, as the algorithm defines it. */
 enum class VertexKind : uint8_t
 {

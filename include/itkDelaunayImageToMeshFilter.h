@@ -18,6 +18,7 @@
 #ifndef itkDelaunayImageToMeshFilter_h
 #define itkDelaunayImageToMeshFilter_h
 
+#include "DelaunayRefinementLabelRegularization.h"
 #include "DelaunayRefinementMesher.h"
 
 #include "itkImage.h"
@@ -113,10 +114,11 @@ public:
   itkSetMacro(MinimumDihedralAngle, double);
   itkGetConstMacro(MinimumDihedralAngle, double);
 
-  /** Where a tissue's boundary comes out non-manifold (a slit or bridge thinner than δ), δ is halved locally
-   * and the refinement resumed, at most this many times (down to δ / 2^levels, never below half the smallest
-   * voxel spacing); every guarantee holds with the local δ. Default 3; 0 = the paper's algorithm alone; valid:
-   * [0, 10]. */
+  /** The old topology repair, an opt-in: where a boundary is still non-manifold after the regularisation, δ is
+   * halved locally and the refinement resumed, at most this many times (down to δ / 2^levels, never below half
+   * the smallest voxel spacing). It resolves detail toward the voxel instead of removing it: meshes several
+   * times larger, and δ no longer controls their size. Every guarantee holds with the local δ. Default 0 (off);
+   * valid: [0, 10]. */
   itkSetMacro(ManifoldRefinementLevels, unsigned int);
   itkGetConstMacro(ManifoldRefinementLevels, unsigned int);
 
@@ -130,6 +132,26 @@ public:
   itkBooleanMacro(JoinDiagonalVoxels);
   /** How many background voxels the last update gave a tissue's label to join diagonal voxels. */
   itkGetConstMacro(NumberOfJoiningVoxels, SizeValueType);
+
+  /** δ is the mesh's resolution: before meshing, every label (the background included) is opened with a ball of
+   * radius RegularizationScale × δ, and the voxels an opening removed take the label of the nearest voxel that
+   * survived (delaunay_refinement::RegularizeLabels). A tissue's parts thinner than 2 × RegularizationScale × δ
+   * (one-voxel bridges, sheets, speckle, contacts along a voxel edge) go to their neighbours, and its slits and
+   * gaps thinner than that are filled; every part that holds a ball of that radius stays. What changed is in
+   * GetRegularizationReport(). Only with nearest-neighbour labels (the default interpolator). Default
+   * DefaultRegularizationScale; 0 = the voxels as they are; valid: [0, 0.5] (a ball of diameter δ always stays). */
+  itkSetMacro(RegularizationScale, double);
+  itkGetConstMacro(RegularizationScale, double);
+  static constexpr double DefaultRegularizationScale = 0.5;
+
+  /** Where a boundary still comes out non-manifold after the refinement, the labels are regularised in a ball of
+   * radius δ around each such place (the place's label fills the ball or leaves it, whichever changes fewer
+   * voxels) and the refinement resumes there, at most this many rounds. Only with nearest-neighbour labels.
+   * Default delaunay_refinement::RefinementParameters{}.topologyRegularizationRounds; 0 = never; valid: [0, 20]. */
+  itkSetMacro(TopologyRegularizationRounds, unsigned int);
+  itkGetConstMacro(TopologyRegularizationRounds, unsigned int);
+  /** How many voxels the last update's local regularisation (TopologyRegularizationRounds) changed. */
+  itkGetConstMacro(NumberOfLocallyRegularizedVoxels, SizeValueType);
 
   /** A cap on the vertices of the triangulation; reaching it raises an exception. Default 10,000,000. */
   itkSetMacro(MaximumNumberOfVertices, SizeValueType);
@@ -223,6 +245,13 @@ public:
     return m_ObjectLabelImage;
   }
 
+  /** What the regularisation (RegularizationScale) did to each label during the last update. */
+  const delaunay_refinement::LabelRegularizationReport &
+  GetRegularizationReport() const
+  {
+    return m_RegularizationReport;
+  }
+
   /** What the refinement did during the last update. */
   const delaunay_refinement::RefinementStatistics &
   GetRefinementStatistics() const
@@ -250,6 +279,9 @@ private:
   MakeInterpolator(const InputImageType * image) const;
   void
   FillOutputs(const delaunay_refinement::TetrahedralMesh & mesh);
+  /** An abort from the progress observer, as ITK reports it. */
+  [[noreturn]] void
+  ThrowProcessAborted(const char * description) const;
 
   double m_SurfaceSamplingDistance{ 0.0 };
   double m_EffectiveSurfaceSamplingDistance{ 0.0 };
@@ -260,7 +292,12 @@ private:
   unsigned int  m_ManifoldRefinementLevels{ delaunay_refinement::RefinementParameters{}.manifoldRefinementLevels };
   bool          m_MergeLabels{ false };
   bool          m_JoinDiagonalVoxels{ true };
-  SizeValueType m_NumberOfJoiningVoxels{ 0 };
+  double        m_RegularizationScale{ DefaultRegularizationScale };
+  unsigned int  m_TopologyRegularizationRounds{
+    delaunay_refinement::RefinementParameters{}.topologyRegularizationRounds
+  };
+  SizeValueType       m_NumberOfLocallyRegularizedVoxels{ 0 };
+  SizeValueType       m_NumberOfJoiningVoxels{ 0 };
   InterpolatorPointer m_Interpolator;
   double              m_IsoValue{ 0.0 };
   bool                m_UseIsoValue{ false };
@@ -268,9 +305,10 @@ private:
   LabelPairListType   m_InterfaceLabels;
   // Private members and the .hxx are parsed by CastXML too: only the public accessors above are hidden from
   // the wrapping, because SWIG cannot wrap their std::array and core types.
-  delaunay_refinement::TetrahedralMesh        m_RefinedMesh;
-  delaunay_refinement::RefinementStatistics   m_RefinementStatistics;
-  typename ObjectLabelImageType::ConstPointer m_ObjectLabelImage;
+  delaunay_refinement::TetrahedralMesh           m_RefinedMesh;
+  delaunay_refinement::RefinementStatistics      m_RefinementStatistics;
+  delaunay_refinement::LabelRegularizationReport m_RegularizationReport;
+  typename ObjectLabelImageType::ConstPointer    m_ObjectLabelImage;
 };
 
 } // namespace itk

@@ -29,6 +29,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 namespace itk
 {
@@ -166,6 +167,16 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::MakeInterpolator(const Inpu
 
 template <typename TInputImage, typename TOutputMesh>
 void
+DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::ThrowProcessAborted(const char * description) const
+{
+  ProcessAborted aborted(__FILE__, __LINE__);
+  aborted.SetLocation(ITK_LOCATION);
+  aborted.SetDescription(description);
+  throw aborted;
+}
+
+template <typename TInputImage, typename TOutputMesh>
+void
 DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
 {
   const InputImageType * image = this->GetInput();
@@ -178,6 +189,7 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
   parameters.minimumDihedralAngle = m_MinimumDihedralAngle;
   parameters.maximumNumberOfVertices = m_MaximumNumberOfVertices;
   parameters.manifoldRefinementLevels = m_ManifoldRefinementLevels;
+  parameters.topologyRegularizationRounds = m_TopologyRegularizationRounds;
   // A bridge or slit one voxel thick (a joined diagonal contact is one) needs samples closer than a voxel; below
   // half a voxel, finer sampling would resolve the corners where voxels still touch diagonally (two tissues, or
   // at a vertex): never more manifold.
@@ -192,12 +204,46 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
     itkExceptionMacro(<< error.what());
   }
 
+  if (!(m_RegularizationScale >= 0.0 && m_RegularizationScale <= 0.5))
+  {
+    itkExceptionMacro(<< "Invalid RegularizationScale = " << m_RegularizationScale
+                      << ": the valid range is [0, 0.5] (a fraction of delta; 0 = no regularisation)");
+  }
+
   this->UpdateProgress(0.0f);
-  const InterpolatorPointer              interpolator = MakeInterpolator(image);
-  const ImageLabelOracle<InputImageType> oracle(
-    image, interpolator, ImageLabelMapping{ m_Labels, m_MergeLabels, m_UseIsoValue, m_IsoValue, m_JoinDiagonalVoxels });
+  const InterpolatorPointer interpolator = MakeInterpolator(image);
+  const ImageLabelMapping   mapping{ m_Labels,
+                                   m_MergeLabels,
+                                   m_UseIsoValue,
+                                   m_IsoValue,
+                                   m_JoinDiagonalVoxels,
+                                   m_RegularizationScale * m_EffectiveSurfaceSamplingDistance,
+                                   [this] {
+                                     this->UpdateProgress(0.0f);
+                                     return !this->GetAbortGenerateData();
+                                   } };
+  std::unique_ptr<ImageLabelOracle<InputImageType>> oraclePointer;
+  try
+  {
+    oraclePointer = std::make_unique<ImageLabelOracle<InputImageType>>(image, interpolator, mapping);
+  }
+  catch (const delaunay_refinement::RefinementAborted & error)
+  {
+    ThrowProcessAborted(error.what());
+  }
+  ImageLabelOracle<InputImageType> & oracle = *oraclePointer;
   m_ObjectLabelImage = oracle.GetLabelImage();
+  m_RegularizationReport = oracle.GetRegularizationReport();
   m_NumberOfJoiningVoxels = oracle.GetNumberOfJoiningVoxels();
+  if (oracle.GetNumberOfObjectVoxels() == 0 && m_RegularizationReport.changedVoxels > 0)
+  {
+    itkExceptionMacro(<< "Every part of the object is thinner than the regularisation scale: the opening with radius "
+                      << "RegularizationScale x SurfaceSamplingDistance (delta) = " << m_RegularizationScale << " x "
+                      << m_EffectiveSurfaceSamplingDistance << " mm removed all of its "
+                      << m_RegularizationReport.changedVoxels
+                      << " voxels; choose a smaller SurfaceSamplingDistance (delta), or RegularizationScale 0 to mesh "
+                         "the voxels as they are.");
+  }
   if (oracle.GetNumberOfObjectVoxels() == 0)
   {
     itkExceptionMacro(<< "No voxel of the input is part of the object ("
@@ -215,19 +261,19 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
 
   try
   {
-    m_RefinedMesh = delaunay_refinement::RefineMesh(oracle, parameters, &m_RefinementStatistics, observer);
+    m_RefinedMesh = delaunay_refinement::RefineMesh(oracle, parameters, &m_RefinementStatistics, observer, &oracle);
   }
   catch (const delaunay_refinement::RefinementAborted & error)
   {
-    ProcessAborted aborted(__FILE__, __LINE__);
-    aborted.SetLocation(ITK_LOCATION);
-    aborted.SetDescription(error.what());
-    throw aborted;
+    ThrowProcessAborted(error.what());
   }
   catch (const delaunay_refinement::VertexLimitExceeded & error)
   {
     itkExceptionMacro(<< error.what() << " (MaximumNumberOfVertices = " << m_MaximumNumberOfVertices << ")");
   }
+  // The local regularisation changes the oracle's label image in place (m_ObjectLabelImage shares it).
+  m_NumberOfLocallyRegularizedVoxels = oracle.GetNumberOfLocallyRegularizedVoxels();
+  m_NumberOfJoiningVoxels = oracle.GetNumberOfJoiningVoxels();
   if (m_RefinedMesh.tetrahedra.empty())
   {
     itkExceptionMacro(<< "The refinement produced no tetrahedron: the object (" << oracle.GetNumberOfObjectVoxels()
@@ -300,6 +346,9 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf(std::ostream & os
   Superclass::PrintSelf(os, indent);
   os << indent << "SurfaceSamplingDistance: " << m_SurfaceSamplingDistance << std::endl;
   os << indent << "EffectiveSurfaceSamplingDistance: " << m_EffectiveSurfaceSamplingDistance << std::endl;
+  os << indent << "RegularizationScale: " << m_RegularizationScale << std::endl;
+  os << indent << "TopologyRegularizationRounds: " << m_TopologyRegularizationRounds << std::endl;
+  os << indent << "NumberOfLocallyRegularizedVoxels: " << m_NumberOfLocallyRegularizedVoxels << std::endl;
   os << indent << "RadiusEdgeBound: " << m_RadiusEdgeBound << std::endl;
   os << indent << "MinimumDihedralAngle: " << m_MinimumDihedralAngle << std::endl;
   os << indent << "MaximumNumberOfVertices: " << m_MaximumNumberOfVertices << std::endl;

@@ -18,6 +18,7 @@
 #ifndef itkImageLabelOracle_h
 #define itkImageLabelOracle_h
 
+#include "DelaunayRefinementLabelRegularization.h"
 #include "DelaunayRefinementOracle.h"
 #include "DelaunayRefinementVoxelPinches.h"
 
@@ -25,6 +26,7 @@
 #include "itkInterpolateImageFunction.h"
 
 #include <array>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -45,6 +47,12 @@ struct ImageLabelMapping
    * delaunay_refinement::JoinDiagonalVoxels), so that the labels' voxel surface has no non-manifold edge
    * between an object and the background. Off here (the voxels as they are); the filter turns it on. */
   bool joinDiagonalVoxels{ false };
+  /** With nearest-neighbour labels: open every label, the background included, with a ball of this radius
+   * (physical units) before anything else (see delaunay_refinement::RegularizeLabels). 0 = the voxels as they
+   * are. */
+  double regularizationRadius{ 0.0 };
+  /** Asked now and then during the regularisation: returning false aborts it (RefinementAborted). */
+  std::function<bool()> keepGoing;
 };
 
 /** \class ImageLabelOracle
@@ -66,7 +74,9 @@ struct ImageLabelMapping
  * \ingroup DelaunayImageToMesh
  */
 template <typename TInputImage>
-class ITK_TEMPLATE_EXPORT ImageLabelOracle : public delaunay_refinement::LabelOracle
+class ITK_TEMPLATE_EXPORT ImageLabelOracle
+  : public delaunay_refinement::LabelOracle
+  , public delaunay_refinement::TopologyRegularizer
 {
 public:
   static constexpr unsigned int ImageDimension = TInputImage::ImageDimension;
@@ -99,6 +109,21 @@ public:
   double
   SurfaceTolerance() const override;
 
+  /** With voxelwise labels: in the ball around each place (voxel centres within `radius`, the label image's
+   * outer layer of background excepted), the place's label takes every voxel when it holds at least half of them,
+   * else gives its voxels to the label most frequent among the others there (the smaller on a tie). Then the
+   * diagonal contacts are joined again (when asked) and the feature transform is rebuilt. Other interpolators
+   * define their own surface: nothing changes and no ball is returned. */
+  std::vector<delaunay_refinement::Ball>
+  RegularizeAround(const std::vector<delaunay_refinement::NonManifoldPlace> & places, double radius) override;
+
+  /** Voxels whose label RegularizeAround() changed, over all calls. */
+  SizeValueType
+  GetNumberOfLocallyRegularizedVoxels() const
+  {
+    return m_NumberOfLocallyRegularizedVoxels;
+  }
+
   /** Number of voxels that carry a selected label (or are >= the iso-value). */
   SizeValueType
   GetNumberOfObjectVoxels() const
@@ -113,6 +138,13 @@ public:
   GetLabelImage() const
   {
     return m_LabelImage;
+  }
+
+  /** What the regularisation (ImageLabelMapping::regularizationRadius) did to each label. */
+  const delaunay_refinement::LabelRegularizationReport &
+  GetRegularizationReport() const
+  {
+    return m_RegularizationReport;
   }
 
   /** How many background voxels took an object's label to join diagonal voxels (ImageLabelMapping). */
@@ -139,6 +171,11 @@ private:
   BuildLabelImage(const InputImageType * image);
   void
   BuildNearestInterfaceMap();
+  /** Changes the labels in one ball (RegularizeAround); returns how many voxels changed. */
+  SizeValueType
+  RegularizeBall(const delaunay_refinement::NonManifoldPlace & place, double radius);
+  void
+  CountObjectVoxels();
   void
   MarkInterfaceVoxels();
   void
@@ -183,11 +220,13 @@ private:
   /** For each voxel of m_LabelImage (by buffer offset), the buffer offset of the nearest interface voxel. */
   std::vector<uint32_t> m_NearestInterfaceVoxel;
   /** Buffer offset steps of m_LabelImage along each axis. */
-  std::array<SizeValueType, 3>        m_BufferStrides{};
-  delaunay_refinement::AxisAlignedBox m_ObjectBounds;
-  SizeValueType                       m_NumberOfObjectVoxels{ 0 };
-  SizeValueType                       m_NumberOfJoiningVoxels{ 0 };
-  double                              m_SurfaceTolerance{ 0.0 };
+  std::array<SizeValueType, 3>                   m_BufferStrides{};
+  delaunay_refinement::AxisAlignedBox            m_ObjectBounds;
+  SizeValueType                                  m_NumberOfObjectVoxels{ 0 };
+  SizeValueType                                  m_NumberOfJoiningVoxels{ 0 };
+  SizeValueType                                  m_NumberOfLocallyRegularizedVoxels{ 0 };
+  delaunay_refinement::LabelRegularizationReport m_RegularizationReport;
+  double                                         m_SurfaceTolerance{ 0.0 };
 };
 
 } // namespace itk

@@ -26,6 +26,7 @@
 #include "DelaunayRefinementExtraction.h"
 #include "DelaunayRefinementMeshQuality.h"
 #include "DelaunayRefinementSizing.h"
+#include "DelaunayRefinementSpatialGrid.h"
 
 #include <algorithm>
 #include <cmath>
@@ -38,19 +39,16 @@ namespace delaunay_refinement
 namespace detail
 {
 
-/** Where the tissues' boundaries are not 2-manifolds. */
+/** Where the boundaries are not 2-manifolds. */
 struct NonManifoldPlaces
 {
-  /** The offending boundary vertices. */
+  /** Each offending boundary vertex with each label whose boundary it offends, in insertion order of the
+   * vertices, then by label. */
+  std::vector<NonManifoldPlace> places;
+  /** The offending vertices, each once, in insertion order. */
   std::vector<Vector3> points;
   /** All boundary vertices. */
   std::size_t numberOfBoundaryVertices{ 0 };
-};
-
-struct Ball
-{
-  Vector3 center;
-  double  radius;
 };
 
 /** Finds non-manifold places on the tissues' boundaries and refines δ around them. */
@@ -93,29 +91,31 @@ public:
       const std::array<uint32_t, 3> triangle{ indexOf(cell->vertex(Triangulation::vertex_triple_index(facet, 0))),
                                               indexOf(cell->vertex(Triangulation::vertex_triple_index(facet, 1))),
                                               indexOf(cell->vertex(Triangulation::vertex_triple_index(facet, 2))) };
+      // Each tissue's boundary, and the union's (keyed by the background): facets against the background.
       trianglesPerLabel[cell->cache.label].push_back(triangle);
-      if (otherLabel != BackgroundLabel)
-      {
-        trianglesPerLabel[otherLabel].push_back(triangle);
-      }
+      trianglesPerLabel[otherLabel].push_back(triangle);
     });
-    std::vector<VertexHandle> offending;
+    std::vector<std::pair<VertexHandle, Label>> offending;
     for (const auto & labelTriangles : trianglesPerLabel)
     {
       for (const uint32_t vertex : FindNonManifoldVertices(labelTriangles.second))
       {
-        offending.push_back(boundaryVertices[vertex]);
+        offending.emplace_back(boundaryVertices[vertex], labelTriangles.first);
       }
     }
-    // In insertion order, as the extracted mesh numbers its vertices: the zones do not depend on addresses.
-    std::sort(offending.begin(), offending.end(), [](const VertexHandle & a, const VertexHandle & b) {
-      return a->info().id < b->info().id;
+    // In insertion order, as the extracted mesh numbers its vertices: nothing depends on addresses.
+    std::sort(offending.begin(), offending.end(), [](const auto & a, const auto & b) {
+      return std::make_pair(a.first->info().id, a.second) < std::make_pair(b.first->info().id, b.second);
     });
-    offending.erase(std::unique(offending.begin(), offending.end()), offending.end());
     NonManifoldPlaces places;
-    for (const VertexHandle & vertex : offending)
+    for (std::size_t i = 0; i < offending.size(); ++i)
     {
-      places.points.push_back(m_State.PointOf(vertex));
+      const Vector3 point = m_State.PointOf(offending[i].first);
+      places.places.push_back({ point, offending[i].second });
+      if (i == 0 || offending[i].first != offending[i - 1].first)
+      {
+        places.points.push_back(point);
+      }
     }
     places.numberOfBoundaryVertices = boundaryVertices.size();
     return places;
@@ -157,32 +157,61 @@ public:
     return newZones;
   }
 
-  /** After the refinement ran out of work, only rules evaluated with a local δ that changed can apply again:
-   * R1 at the surface point closest to a circumcentre (inside the circumball), R2 at the circumcentre, R3 at a
-   * surface-ball centre on the Voronoi edge between two circumcentres (inside the union of the two
-   * circumballs). So the cells whose circumball meets a new zone, and their neighbours, are all that need
+  /** After the refinement ran out of work, only rules evaluated with a local δ or labels that changed can apply
+   * again: R1 at the surface point closest to a circumcentre (inside the circumball), R2 at the circumcentre, R3
+   * at a surface-ball centre on the Voronoi edge between two circumcentres (inside the union of the two
+   * circumballs). So the cells whose circumball meets a changed ball, and their neighbours, are all that need
    * another look; the rest of the mesh is not walked again. */
   std::vector<CellHandle>
-  CellsAffectedBy(const std::vector<Ball> & zones) const
+  CellsMeeting(const std::vector<Ball> & balls) const
   {
-    std::vector<CellHandle> affected;
+    std::vector<CellHandle> meeting;
+    if (balls.empty())
+    {
+      return meeting;
+    }
+    // A grid of the balls' centres: thousands of balls against hundreds of thousands of cells.
+    double largestRadius = 0.0;
+    for (const Ball & ball : balls)
+    {
+      largestRadius = std::max(largestRadius, ball.radius);
+    }
+    SpatialGrid<std::size_t> centers(2.0 * largestRadius);
+    for (std::size_t index = 0; index < balls.size(); ++index)
+    {
+      centers.Insert(balls[index].center, index);
+    }
     for (auto cell = m_State.GetTriangulation().finite_cells_begin();
          cell != m_State.GetTriangulation().finite_cells_end();
          ++cell)
     {
       const double radius = std::sqrt(cell->cache.squaredRadius);
-      const bool   touched = std::any_of(zones.begin(), zones.end(), [&](const Ball & zone) {
-        return Distance(cell->cache.circumcenter, zone.center) < radius + zone.radius;
+      bool         meets = false;
+      centers.ForEachWithin(cell->cache.circumcenter, radius + largestRadius, [&](std::size_t index) {
+        meets = Distance(cell->cache.circumcenter, balls[index].center) < radius + balls[index].radius;
+        return !meets;
       });
-      if (touched)
+      if (meets)
       {
-        affected.push_back(cell);
-        for (int facet = 0; facet < 4; ++facet)
+        meeting.push_back(cell);
+      }
+    }
+    return meeting;
+  }
+
+  /** The cells and their finite neighbours, each once. */
+  std::vector<CellHandle>
+  WithNeighbors(const std::vector<CellHandle> & cells) const
+  {
+    std::vector<CellHandle> affected;
+    for (const CellHandle cell : cells)
+    {
+      affected.push_back(cell);
+      for (int facet = 0; facet < 4; ++facet)
+      {
+        if (!m_State.GetTriangulation().is_infinite(cell->neighbor(facet)))
         {
-          if (!m_State.GetTriangulation().is_infinite(cell->neighbor(facet)))
-          {
-            affected.push_back(cell->neighbor(facet));
-          }
+          affected.push_back(cell->neighbor(facet));
         }
       }
     }

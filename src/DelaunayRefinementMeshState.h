@@ -259,7 +259,7 @@ public:
     vertex->info().id = m_NextVertexId++;
     if (kind == VertexKind::Feature)
     {
-      m_FeatureVertices.Insert(point, point);
+      m_FeatureVertices.Insert(point, vertex);
     }
     else if (kind == VertexKind::Free)
     {
@@ -281,6 +281,10 @@ public:
     if (vertex->info().kind == VertexKind::Free)
     {
       m_FreeVertices.Remove(PointOf(vertex), vertex);
+    }
+    else if (vertex->info().kind == VertexKind::Feature)
+    {
+      m_FeatureVertices.Remove(PointOf(vertex), vertex);
     }
     else
     {
@@ -317,6 +321,31 @@ public:
     }
   }
 
+  /** Where the oracle's labels changed (the topology regularisation), the surface samples there are off the new
+   * surface: removes, in insertion order, the feature and free vertices strictly inside the ball. */
+  void
+  RemoveSurfaceSamplesInside(const Vector3 & center, double radius)
+  {
+    std::vector<VertexHandle> victims;
+    const auto                collect = [&](const VertexHandle & vertex) { victims.push_back(vertex); };
+    m_FreeVertices.ForEachWithin(center, radius, collect);
+    m_FeatureVertices.ForEachWithin(center, radius, collect);
+    std::sort(victims.begin(), victims.end(), [](const VertexHandle & a, const VertexHandle & b) {
+      return a->info().id < b->info().id;
+    });
+    for (const VertexHandle & vertex : victims)
+    {
+      RemoveVertex(vertex);
+    }
+  }
+
+  /** The labels changed under these cells: their caches are computed again and they are announced as new. */
+  void
+  RefreshCells(const std::vector<CellHandle> & cells)
+  {
+    AnnounceNewCells(cells);
+  }
+
   /** R1 and R3: a feature vertex, then deletion of the free vertices closer than 2δ (the local δ) to it. */
   bool
   InsertFeatureVertex(const Vector3 & point, double localDelta, CellHandle hint)
@@ -350,8 +379,8 @@ private:
 
   Triangulation                    m_Triangulation;
   Kernel::Construct_circumcenter_3 m_Circumcenter{ m_Triangulation.geom_traits().construct_circumcenter_3_object() };
-  /** Feature vertices never move or go: the grid keeps only their positions, for R1's "any within δ". */
-  SpatialGrid<Vector3>      m_FeatureVertices;
+  /** Feature vertices go only where the oracle's labels changed (RemoveSurfaceSamplesInside). */
+  SpatialGrid<VertexHandle> m_FeatureVertices;
   SpatialGrid<VertexHandle> m_FreeVertices;
   std::vector<VertexHandle> m_BoxFaceVertices;
   VertexId                  m_NextVertexId{ 0 };

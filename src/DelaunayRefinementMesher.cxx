@@ -53,9 +53,12 @@ namespace
 class Refiner
 {
 public:
-  Refiner(const LabelOracle & oracle, const RefinementParameters & parameters, const ProgressObserver & observer)
+  Refiner(const LabelOracle & oracle, const RefinementParameters & parameters, const ProgressObserver & observer,
+          TopologyRegularizer * regularizer)
     : m_Oracle(oracle)
+    , m_Parameters(parameters)
     , m_Observer(observer)
+    , m_Regularizer(regularizer)
     , m_State(oracle, parameters)
     , m_Sizing(parameters.surfaceSamplingDistance)
     , m_BoxProtection(m_State, parameters.surfaceSamplingDistance, m_Statistics)
@@ -85,7 +88,7 @@ public:
     const auto refinementStart = std::chrono::steady_clock::now();
     m_BoxProtection.CreateBox(objectBounds);
     RefineUntilNoRuleApplies();
-    RefineUntilManifold();
+    RepairTopology();
     const auto      extractionStart = std::chrono::steady_clock::now();
     TetrahedralMesh mesh = m_Extraction.ExtractMesh();
     const auto      end = std::chrono::steady_clock::now();
@@ -198,45 +201,104 @@ private:
     }
   }
 
-  /** Alternates the manifold check and local refinement (ManifoldRepair) until the boundary is manifold, the
-   * defects are not local, or δ reached its floor everywhere they are. */
+  /** Alternates the manifold check and a repair until every boundary is a manifold or no repair is left: first the
+   * regularisation of the oracle's labels around the places (when the oracle allows it, at most
+   * topologyRegularizationRounds rounds), then, as an opt-in, the local halving of δ (ManifoldRepair). */
   void
-  RefineUntilManifold()
+  RepairTopology()
   {
     NonManifoldPlaces places = m_Repair.FindNonManifoldPlaces();
-    while (!places.points.empty() && ManifoldRepair::IsRepairable(places))
+    while (!places.places.empty())
     {
-      const std::vector<Ball> newZones = m_Repair.HalveDeltaAround(places);
-      if (newZones.empty())
+      if (m_Regularizer && m_Statistics.topologyRegularizationRounds < m_Parameters.topologyRegularizationRounds)
+      {
+        if (!RegularizeAround(places))
+        {
+          break;
+        }
+      }
+      else if (!HalveDeltaAround(places))
       {
         break;
-      }
-      ++m_Statistics.manifoldRefinementRounds;
-      for (const CellHandle cell : m_Repair.CellsAffectedBy(newZones))
-      {
-        Enqueue(cell);
       }
       RefineUntilNoRuleApplies();
       places = m_Repair.FindNonManifoldPlaces();
     }
     m_Statistics.manifoldRefinementZones = m_Sizing.NumberOfZones();
     m_Statistics.finestSurfaceSamplingDistance = m_Sizing.FinestDelta();
-    m_Statistics.remainingNonManifoldVertices = places.points.size();
+    m_Statistics.remainingNonManifoldVertices = places.places.size();
+  }
+
+  /** The oracle's labels change in a ball of radius δ around each place; the surface samples inside go (they are
+   * off the new surface), and the cells whose circumball meets a ball are evaluated again. */
+  bool
+  RegularizeAround(const NonManifoldPlaces & places)
+  {
+    const std::vector<Ball> balls =
+      m_Regularizer->RegularizeAround(places.places, RegularizationRadius * m_Parameters.surfaceSamplingDistance);
+    if (balls.empty())
+    {
+      return false;
+    }
+    ++m_Statistics.topologyRegularizationRounds;
+    m_Statistics.regularizedPlaces += balls.size();
+    for (const Ball & ball : balls)
+    {
+      m_State.RemoveSurfaceSamplesInside(ball.center, ball.radius);
+    }
+    std::vector<CellHandle> changed = m_Repair.CellsMeeting(balls);
+    std::sort(changed.begin(), changed.end());
+    // Caches first: the neighbours' classification looks at the changed cells' labels.
+    m_State.RefreshCells(changed);
+    for (const CellHandle cell : m_Repair.WithNeighbors(changed))
+    {
+      if (!std::binary_search(changed.begin(), changed.end(), cell))
+      {
+        Enqueue(cell);
+      }
+    }
+    return true;
+  }
+
+  /** The opt-in repair: δ halved around each place (ManifoldRepair::HalveDeltaAround). */
+  bool
+  HalveDeltaAround(const NonManifoldPlaces & places)
+  {
+    if (m_Parameters.manifoldRefinementLevels == 0 || !ManifoldRepair::IsRepairable(places))
+    {
+      return false;
+    }
+    const std::vector<Ball> newZones = m_Repair.HalveDeltaAround(places);
+    if (newZones.empty())
+    {
+      return false;
+    }
+    ++m_Statistics.manifoldRefinementRounds;
+    for (const CellHandle cell : m_Repair.WithNeighbors(m_Repair.CellsMeeting(newZones)))
+    {
+      Enqueue(cell);
+    }
+    return true;
   }
 
   static constexpr std::size_t ProgressInterval = 4096;
+  /** The radius of a regularised ball, in units of δ: a pinch filled or cut over a ball this wide becomes a part
+   * or a gap about 2δ across, which sampling at δ resolves. */
+  static constexpr double RegularizationRadius = 1.0;
 
-  const LabelOracle &      m_Oracle;
-  const ProgressObserver & m_Observer;
-  RefinementStatistics     m_Statistics;
-  MeshState                m_State;
-  LocalSampling            m_Sizing;
-  BoxProtection            m_BoxProtection;
-  RefinementRules          m_Rules;
-  MeshExtraction           m_Extraction;
-  ManifoldRepair           m_Repair;
-  RefinementQueue          m_Queue;
-  double                   m_ProgressFraction{ 0.0 };
+  const LabelOracle &          m_Oracle;
+  const RefinementParameters & m_Parameters;
+  const ProgressObserver &     m_Observer;
+  TopologyRegularizer *        m_Regularizer;
+  RefinementStatistics         m_Statistics;
+  MeshState                    m_State;
+  LocalSampling                m_Sizing;
+  BoxProtection                m_BoxProtection;
+  RefinementRules              m_Rules;
+  MeshExtraction               m_Extraction;
+  ManifoldRepair               m_Repair;
+  RefinementQueue              m_Queue;
+  double                       m_ProgressFraction{ 0.0 };
 };
 
 } // namespace
@@ -244,11 +306,11 @@ private:
 
 TetrahedralMesh
 RefineMesh(const LabelOracle & oracle, const RefinementParameters & parameters, RefinementStatistics * statistics,
-           const ProgressObserver & observer)
+           const ProgressObserver & observer, TopologyRegularizer * regularizer)
 {
   ValidateParameters(parameters);
   RefinementStatistics localStatistics;
-  detail::Refiner      refiner(oracle, parameters, observer);
+  detail::Refiner      refiner(oracle, parameters, observer, regularizer);
   TetrahedralMesh      mesh = refiner.Run(localStatistics);
   if (statistics)
   {

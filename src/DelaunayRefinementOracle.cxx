@@ -22,6 +22,8 @@ namespace delaunay_refinement
 
 LabelOracle::~LabelOracle() = default;
 
+TopologyRegularizer::~TopologyRegularizer() = default;
+
 SurfaceDistanceBounds
 LabelOracle::BoundSurfaceDistance(const Vector3 &) const
 {

@@ -86,6 +86,10 @@ ValidateParameters(const RefinementParameters & parameters)
                  "manifoldRefinementLevels",
                  static_cast<double>(parameters.manifoldRefinementLevels),
                  "[0, " + std::to_string(Limits::LargestManifoldRefinementLevels) + "]");
+  RequireInRange(parameters.topologyRegularizationRounds <= Limits::LargestTopologyRegularizationRounds,
+                 "topologyRegularizationRounds",
+                 static_cast<double>(parameters.topologyRegularizationRounds),
+                 "[0, " + std::to_string(Limits::LargestTopologyRegularizationRounds) + "]");
 }
 
 } // namespace delaunay_refinement

@@ -172,6 +172,7 @@ enum class Outcome
 {
   Mesh,
   NoObjectVoxel,
+  RegularizedAway,
   NoTetrahedron,
   VertexLimit,
   InvalidParameter,
@@ -188,6 +189,8 @@ OutcomeName(Outcome outcome)
       return "mesh";
     case Outcome::NoObjectVoxel:
       return "exception: no voxel selected";
+    case Outcome::RegularizedAway:
+      return "exception: every part thinner than the regularisation scale";
     case Outcome::NoTetrahedron:
       return "exception: no tetrahedron (object too small for delta)";
     case Outcome::VertexLimit:
@@ -211,6 +214,11 @@ ClassifyExceptionDescription(const std::string & description)
   if (contains("No voxel of the input is part of the object"))
   {
     return Outcome::NoObjectVoxel;
+  }
+  if (contains("Every part of the object is thinner than the regularisation scale") &&
+      contains("SurfaceSamplingDistance (delta)"))
+  {
+    return Outcome::RegularizedAway;
   }
   if (contains("The refinement produced no tetrahedron") && contains("too small for SurfaceSamplingDistance"))
   {
@@ -240,7 +248,10 @@ struct FilterSettings
   bool                   mergeLabels{ false };
   std::optional<double>  isoValue;
   /** Local halvings of δ where a boundary comes out non-manifold (the filter's default is 3). */
-  unsigned int manifoldRefinementLevels{ 3 };
+  unsigned int manifoldRefinementLevels{ dr::RefinementParameters{}.manifoldRefinementLevels };
+  /** The filter's default unless a case turns it off. */
+  double regularizationScale{ DelaunayImageToMeshFilter<Image<uint8_t, 3>, MeshType>::DefaultRegularizationScale };
+  unsigned int topologyRegularizationRounds{ dr::RefinementParameters{}.topologyRegularizationRounds };
   /** The filter's default: voxels of a tissue touching only along an edge are joined (nearest-neighbour labels). */
   bool joinDiagonalVoxels{ true };
   /** Wall-clock budget of one run; the run is aborted through AbortGenerateData when it is exceeded. */
@@ -571,11 +582,21 @@ JoinedLabelImage(const TImage & image, const FilterSettings & settings, const st
   return joined;
 }
 
-/** The label the filter meshes at a physical point: OracleLabelAt on the image, or on JoinedLabelImage. */
-template <typename TImage>
+/** The label the filter meshes at a physical point: OracleLabelAt on the image, or on JoinedLabelImage, or on the
+ * filter's regularised label image. */
+template <typename TImage, typename TFilter>
 std::function<dr::Label(const dr::Vector3 &)>
-MeshedLabelFunction(const TImage & image, const FilterSettings & settings, const std::set<dr::Label> & tissues)
+MeshedLabelFunction(const TImage & image, const TFilter & filter, const FilterSettings & settings,
+                    const std::set<dr::Label> & tissues)
 {
+  if (filter.GetRegularizationReport().changedVoxels > 0 || filter.GetNumberOfLocallyRegularizedVoxels() > 0)
+  {
+    // The regularised labels are the ones the mesh must carry (docs/algorithm.md, "Topology"): the image the
+    // filter says it meshed, which holds mapped labels (outside its region, background).
+    const auto labels = Image<dr::Label, 3>::ConstPointer(filter.GetObjectLabelImage());
+    const auto interpolator = DefaultInterpolatorFor(*labels, FilterSettings{});
+    return [=](const dr::Vector3 & point) { return OracleLabelAt(*interpolator, FilterSettings{}, tissues, point); };
+  }
   if (settings.isoValue || !settings.joinDiagonalVoxels)
   {
     const auto interpolator = DefaultInterpolatorFor(image, settings);
@@ -592,12 +613,13 @@ MeshedLabelFunction(const TImage & image, const FilterSettings & settings, const
  * between the core's circumcentre and ours flips the nearest voxel: a label seen within a hair of the
  * circumcentre is accepted.
  * Tetrahedra flatter than 1e-6 relative volume are skipped: their recomputed circumcentre is not trustworthy. */
-template <typename TImage>
+template <typename TImage, typename TFilter>
 void
-CheckCircumcenterLabels(const TImage & image, const FilterSettings & settings, const std::set<dr::Label> & tissues,
-                        const dr::TetrahedralMesh & mesh, ViolationList & violations)
+CheckCircumcenterLabels(const TImage & image, const TFilter & filter, const FilterSettings & settings,
+                        const std::set<dr::Label> & tissues, const dr::TetrahedralMesh & mesh,
+                        ViolationList & violations)
 {
-  const auto   labelAt = MeshedLabelFunction(image, settings, tissues);
+  const auto   labelAt = MeshedLabelFunction(image, filter, settings, tissues);
   const auto & spacing = image.GetSpacing();
   const double hair = 1e-6 * *std::max_element(spacing.Begin(), spacing.End());
   std::size_t  wrong = 0;
@@ -852,7 +874,7 @@ CheckGuarantees(TFilter & filter, const TImage & image, const FilterSettings & s
     CheckBoundaryGuarantees(mesh, delta, finestDelta, refinedLocally, rho, violations);
   }
   CheckLabels(mesh, tissues, violations);
-  CheckCircumcenterLabels(image, settings, tissues, mesh, violations);
+  CheckCircumcenterLabels(image, filter, settings, tissues, mesh, violations);
   result.violations = violations.Take();
   result.smallestVolume = quality.minimumVolume;
   result.smallestDihedralAngle = quality.minimumDihedralAngle;
@@ -876,6 +898,8 @@ RunAndCheck(const TImage * image, const FilterSettings & settings)
   filter->SetMergeLabels(settings.mergeLabels);
   filter->SetManifoldRefinementLevels(settings.manifoldRefinementLevels);
   filter->SetJoinDiagonalVoxels(settings.joinDiagonalVoxels);
+  filter->SetRegularizationScale(settings.regularizationScale);
+  filter->SetTopologyRegularizationRounds(settings.topologyRegularizationRounds);
   if (settings.isoValue)
   {
     filter->SetIsoValue(*settings.isoValue);

@@ -94,6 +94,12 @@ target_compile_definitions(DelaunayImageToMeshFingerprintGTests PRIVATE
   DelaunayImageToMesh_FINGERPRINT_BASELINE="${DelaunayImageToMesh_BASELINE}/MeshFingerprints.txt")
 gtest_discover_tests(DelaunayImageToMeshFingerprintGTests DISCOVERY_TIMEOUT 120 PROPERTIES TIMEOUT 600)
 
+# ---- Topology at the scale of delta, on generated hostile shapes (issue #14) ---------------------------------
+add_executable(itkDelaunayImageToMeshFilterTopologyGTests itkDelaunayImageToMeshFilterTopologyGTest.cxx)
+target_link_libraries(itkDelaunayImageToMeshFilterTopologyGTests PRIVATE
+  DelaunayImageToMesh ${ITK_LIBRARIES} GTest::gtest_main)
+gtest_discover_tests(itkDelaunayImageToMeshFilterTopologyGTests DISCOVERY_TIMEOUT 120 PROPERTIES TIMEOUT 600)
+
 # ---- Compile-time rejection of 2-D images ------------------------------------------------------------------
 # Passes when compiling a 2-D instantiation fails with the filter's static_assert message. The include
 # directories are the library's (the module's include/ and the generated export header) and ITK's.

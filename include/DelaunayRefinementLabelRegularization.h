@@ -1,0 +1,74 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef DelaunayRefinementLabelRegularization_h
+#define DelaunayRefinementLabelRegularization_h
+
+#include "DelaunayRefinementTypes.h"
+
+#include <array>
+#include <cstddef>
+#include <functional>
+#include <vector>
+
+namespace delaunay_refinement
+{
+
+/** What the regularisation did to one label (BackgroundLabel included). Volumes in voxels. */
+struct LabelRegularizationChange
+{
+  Label       label{ BackgroundLabel };
+  std::size_t voxelsBefore{ 0 };
+  std::size_t voxelsAfter{ 0 };
+  /** Voxels that left this label (thinner than the scale) and voxels that joined it (a neighbour's thin part). */
+  std::size_t voxelsRemoved{ 0 };
+  std::size_t voxelsAdded{ 0 };
+  /** Face-connected components before and after. */
+  std::size_t componentsBefore{ 0 };
+  std::size_t componentsAfter{ 0 };
+  /** Components of the input that lost every voxel: thinner than the scale everywhere. */
+  std::size_t componentsRemoved{ 0 };
+};
+
+/** What RegularizeLabels() did, label by label in increasing order. */
+struct LabelRegularizationReport
+{
+  double                                 radius{ 0.0 };
+  std::size_t                            changedVoxels{ 0 };
+  std::vector<LabelRegularizationChange> labels;
+};
+
+/** Regularises a label image at a physical scale: every label, the background included, is opened with a ball of
+ * `radius` (erosion then dilation, in physical distances between voxel centres), and every voxel that its own
+ * label's opening removed takes the label of the nearest voxel (physical distance between centres) that survived
+ * its own label's opening; ties go to the smaller offset. Opening the background closes the tissues, so one rule
+ * removes a tissue's parts thinner than 2 × radius (bridges, sheets, speckle) and fills its slits and gaps thinner
+ * than that, for every label alike and with no label favoured. Every part of a label that holds a ball of radius
+ * `radius` stays. A voxel no label survives near (every label thin everywhere) keeps its label.
+ *
+ * `labels` is a dense grid, voxel (i, j, k) at labels[i + size[0] * (j + size[1] * k)], with `spacing` between
+ * voxel centres along each axis (the direction of the axes does not matter: distances are kept by rotations).
+ * Outside the grid is background. Deterministic: the result depends on the labels, spacing and radius only. A
+ * radius of 0 changes nothing. `keepGoing` is asked between passes over the grid (a fraction of a second each);
+ * when it says no, RefinementAborted is thrown and the labels are as they were. */
+DelaunayImageToMesh_EXPORT LabelRegularizationReport
+RegularizeLabels(Label * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing, double radius,
+                 const std::function<bool()> & keepGoing = {});
+
+} // namespace delaunay_refinement
+
+#endif

@@ -1,0 +1,266 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+
+// Topology at the scale of δ (docs/algorithm.md, "Topology"), with the filter's defaults, on generated hostile
+// shapes: one-voxel bridges and slits, contacts along a voxel edge and at a corner, thin sheets, two tissues
+// touching along an edge, and speckle of three tissues, for δ from 1 to 6 times the largest voxel spacing. Every
+// tissue's boundary and the union's must be closed 2-manifolds, counted here independently of the library's
+// topology code for the edges; every block thick enough must be in the mesh; the quality bounds must hold.
+
+#include "DelaunayRefinementMeshQuality.h"
+#include "itkDelaunayImageToMeshFilter.h"
+#include "itkDelaunayImageToMeshFilterTestHelpers.h"
+
+#include <gtest/gtest.h>
+
+#include <iostream>
+#include <map>
+#include <set>
+#include <string>
+
+namespace
+{
+
+namespace dr = delaunay_refinement;
+using itk::delaunay_image_to_mesh_test::MeshType;
+using ImageType = itk::Image<uint8_t, 3>;
+using FilterType = itk::DelaunayImageToMeshFilter<ImageType, MeshType>;
+
+enum class HostileShape
+{
+  OneVoxelBridge,
+  OneVoxelSlit,
+  EdgeContact,
+  CornerContact,
+  ThinSheet,
+  TwoTissuesAlongAnEdge,
+  Speckle
+};
+
+const char *
+NameOf(HostileShape shape)
+{
+  switch (shape)
+  {
+    case HostileShape::OneVoxelBridge:
+      return "OneVoxelBridge";
+    case HostileShape::OneVoxelSlit:
+      return "OneVoxelSlit";
+    case HostileShape::EdgeContact:
+      return "EdgeContact";
+    case HostileShape::CornerContact:
+      return "CornerContact";
+    case HostileShape::ThinSheet:
+      return "ThinSheet";
+    case HostileShape::TwoTissuesAlongAnEdge:
+      return "TwoTissuesAlongAnEdge";
+    case HostileShape::Speckle:
+      return "Speckle";
+  }
+  return "Unknown";
+}
+
+/** The largest voxel spacing: δ runs over 1 to 6 times it. */
+constexpr double LargestSpacing = 1.5;
+
+/** Blocks 14 × 14 × 10 voxels (14 × 14 × 15 mm): they hold a ball of diameter 6 × LargestSpacing = 9 mm. */
+struct Block
+{
+  std::array<int, 3> lower;
+  std::array<int, 3> upper;
+  uint8_t            label;
+};
+
+void
+Fill(ImageType & image, const Block & block)
+{
+  for (int k = block.lower[2]; k < block.upper[2]; ++k)
+  {
+    for (int j = block.lower[1]; j < block.upper[1]; ++j)
+    {
+      for (int i = block.lower[0]; i < block.upper[0]; ++i)
+      {
+        image.SetPixel({ { i, j, k } }, block.label);
+      }
+    }
+  }
+}
+
+/** The image of a shape, and the labels of its thick blocks (every one must be in the mesh at every δ). */
+struct HostileImage
+{
+  ImageType::Pointer image;
+  std::set<int>      thickLabels;
+};
+
+HostileImage
+MakeHostileImage(HostileShape shape)
+{
+  auto image = ImageType::New();
+  image->SetRegions(ImageType::SizeType{ { 40, 36, 26 } });
+  const double spacing[3] = { 1.0, 1.2, LargestSpacing };
+  image->SetSpacing(spacing);
+  const double origin[3] = { -12.5, 3.25, 40.0 };
+  image->SetOrigin(origin);
+  image->Allocate();
+  image->FillBuffer(0);
+  const Block  left{ { { 3, 3, 3 } }, { { 17, 17, 13 } }, 1 };
+  HostileImage result{ image, { 1 } };
+  switch (shape)
+  {
+    case HostileShape::OneVoxelBridge:
+      Fill(*image, left);
+      Fill(*image, { { { 20, 3, 3 } }, { { 34, 17, 13 } }, 1 });
+      Fill(*image, { { { 17, 9, 7 } }, { { 20, 10, 8 } }, 1 });
+      break;
+    case HostileShape::OneVoxelSlit:
+      Fill(*image, { { { 3, 3, 3 } }, { { 34, 30, 13 } }, 1 });
+      Fill(*image, { { { 18, 3, 3 } }, { { 19, 24, 13 } }, 0 });
+      break;
+    case HostileShape::EdgeContact:
+      Fill(*image, left);
+      Fill(*image, { { { 17, 17, 3 } }, { { 31, 31, 13 } }, 1 });
+      break;
+    case HostileShape::CornerContact:
+      Fill(*image, left);
+      Fill(*image, { { { 17, 17, 13 } }, { { 31, 31, 23 } }, 1 });
+      break;
+    case HostileShape::ThinSheet:
+      Fill(*image, left);
+      Fill(*image, { { { 17, 3, 7 } }, { { 30, 17, 8 } }, 1 });
+      break;
+    case HostileShape::TwoTissuesAlongAnEdge:
+      Fill(*image, left);
+      Fill(*image, { { { 17, 17, 3 } }, { { 31, 31, 13 } }, 2 });
+      Fill(*image, { { { 17, 3, 3 } }, { { 31, 17, 13 } }, 1 });
+      result.thickLabels = { 1, 2 };
+      break;
+    case HostileShape::Speckle: {
+      Fill(*image, left);
+      Fill(*image, { { { 20, 3, 3 } }, { { 34, 17, 13 } }, 2 });
+      Fill(*image, { { { 3, 19, 3 } }, { { 17, 33, 13 } }, 3 });
+      // Interleaved speckle of the three tissues between the blocks, from a fixed linear congruential sequence.
+      uint32_t state = 12345u;
+      for (int k = 3; k < 16; ++k)
+      {
+        for (int j = 12; j < 24; ++j)
+        {
+          for (int i = 12; i < 25; ++i)
+          {
+            state = state * 1664525u + 1013904223u;
+            const uint32_t draw = (state >> 16) % 5;
+            if (draw < 3)
+            {
+              image->SetPixel({ { i, j, k } }, static_cast<uint8_t>(draw + 1));
+            }
+          }
+        }
+      }
+      result.thickLabels = { 1, 2, 3 };
+      break;
+    }
+  }
+  return result;
+}
+
+/** Edges of `label`'s boundary (its triangles against any other label; BackgroundLabel: the union's) that are not in
+ * exactly two of its triangles, counted here without the library's topology code. */
+std::size_t
+CountNonManifoldEdges(const dr::TetrahedralMesh & mesh, dr::Label label)
+{
+  std::map<std::pair<uint32_t, uint32_t>, int> trianglesPerEdge;
+  for (std::size_t t = 0; t < mesh.boundaryTriangles.size(); ++t)
+  {
+    const auto & labels = mesh.boundaryTriangleLabels[t];
+    const bool   ofLabel =
+      label == dr::BackgroundLabel ? labels[1] == dr::BackgroundLabel : (labels[0] == label || labels[1] == label);
+    if (!ofLabel)
+    {
+      continue;
+    }
+    const auto & triangle = mesh.boundaryTriangles[t];
+    for (int corner = 0; corner < 3; ++corner)
+    {
+      const uint32_t a = triangle[corner];
+      const uint32_t b = triangle[(corner + 1) % 3];
+      ++trianglesPerEdge[{ std::min(a, b), std::max(a, b) }];
+    }
+  }
+  std::size_t nonManifold = 0;
+  for (const auto & entry : trianglesPerEdge)
+  {
+    nonManifold += entry.second != 2 ? 1 : 0;
+  }
+  return nonManifold;
+}
+
+class HostileShapes : public testing::TestWithParam<std::tuple<HostileShape, int>>
+{};
+
+TEST_P(HostileShapes, EveryBoundaryIsAClosedManifoldAndThickBlocksStay)
+{
+  const HostileShape shape = std::get<0>(GetParam());
+  const double       delta = std::get<1>(GetParam()) * LargestSpacing;
+  const HostileImage hostile = MakeHostileImage(shape);
+  auto               filter = FilterType::New();
+  filter->SetInput(hostile.image);
+  filter->SetSurfaceSamplingDistance(delta);
+  filter->Update();
+  const dr::TetrahedralMesh & mesh = filter->GetRefinedMesh();
+  ASSERT_FALSE(mesh.tetrahedra.empty());
+
+  const std::set<dr::Label> meshed(mesh.tetrahedronLabels.begin(), mesh.tetrahedronLabels.end());
+  for (const int label : hostile.thickLabels)
+  {
+    EXPECT_TRUE(meshed.count(label)) << "tissue " << label << " holds a block thicker than delta, but is not meshed";
+  }
+  std::set<dr::Label> boundaries(meshed);
+  boundaries.insert(dr::BackgroundLabel);
+  std::ostringstream summary;
+  for (const dr::Label label : boundaries)
+  {
+    SCOPED_TRACE(label == dr::BackgroundLabel ? std::string("the union of the tissues")
+                                              : "tissue " + std::to_string(label));
+    const dr::SurfaceTopology topology = dr::ComputeLabelBoundaryTopology(mesh, label);
+    EXPECT_EQ(CountNonManifoldEdges(mesh, label), 0u);
+    EXPECT_EQ(topology.nonManifoldEdges, 0u);
+    EXPECT_EQ(topology.nonManifoldVertices, 0u);
+    summary << " label " << label << ": " << topology.numberOfComponents << " components, genus " << topology.totalGenus
+            << ";";
+  }
+  const dr::TetrahedronQuality quality = dr::ComputeTetrahedronQuality(mesh);
+  EXPECT_LT(quality.maximumRadiusEdgeRatio, filter->GetRadiusEdgeBound());
+  EXPECT_EQ(quality.invertedTetrahedra, 0u);
+  EXPECT_GT(dr::ComputeBoundaryTopology(mesh).minimumPlanarAngle, 30.0);
+  std::cout << NameOf(shape) << " delta " << delta << ": " << mesh.tetrahedra.size() << " tetrahedra, "
+            << filter->GetRegularizationReport().changedVoxels << " voxels regularised, "
+            << filter->GetNumberOfLocallyRegularizedVoxels() << " locally;" << summary.str() << "\n";
+}
+
+INSTANTIATE_TEST_SUITE_P(ShapesAndDeltas, HostileShapes,
+                         testing::Combine(testing::Values(HostileShape::OneVoxelBridge, HostileShape::OneVoxelSlit,
+                                                          HostileShape::EdgeContact, HostileShape::CornerContact,
+                                                          HostileShape::ThinSheet, HostileShape::TwoTissuesAlongAnEdge,
+                                                          HostileShape::Speckle),
+                                          testing::Values(1, 2, 3, 4, 5, 6)),
+                         [](const testing::TestParamInfo<std::tuple<HostileShape, int>> & info) {
+                           return std::string(NameOf(std::get<0>(info.param))) + "_delta" +
+                                  std::to_string(std::get<1>(info.param)) + "x";
+                         });
+
+} // namespace
