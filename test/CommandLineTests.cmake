@@ -43,10 +43,16 @@ add_test(NAME DelaunayImageToMeshCommandLine.Inputs
   COMMAND ${DelaunayImageToMesh_TEST_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/DelaunayImageToMeshCommandLineInputs.py
     ${command_line_program} ${command_line_images} ${command_line_output}/inputs)
 
-# Bad arguments, unreadable files and meshing failures: exit code 2 and a one-line message; --help, --version.
+# Bad arguments (also in --config files), unreadable files and meshing failures: exit code 2 and a one-line message;
+# --help, -h, --version, -V.
 add_test(NAME DelaunayImageToMeshCommandLine.Errors
   COMMAND ${DelaunayImageToMesh_TEST_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/DelaunayImageToMeshCommandLineErrors.py
     ${command_line_program} ${command_line_images} ${command_line_output}/errors)
+
+# The short options and --config files (TOML, INI) give the meshes of the long options.
+add_test(NAME DelaunayImageToMeshCommandLine.Config
+  COMMAND ${DelaunayImageToMesh_TEST_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/DelaunayImageToMeshCommandLineConfig.py
+    ${command_line_program} ${command_line_images} ${command_line_output}/config)
 
 set_tests_properties(
   DelaunayImageToMeshCommandLine.OutputFormat.vtu
@@ -55,6 +61,7 @@ set_tests_properties(
   DelaunayImageToMeshCommandLine.OutputFormat.mesh
   DelaunayImageToMeshCommandLine.Inputs
   DelaunayImageToMeshCommandLine.Errors
+  DelaunayImageToMeshCommandLine.Config
   PROPERTIES FIXTURES_REQUIRED CommandLineImages TIMEOUT 600 ENVIRONMENT PYTHONDONTWRITEBYTECODE=1)
 
 # The picture scripts of examples/ still draw what they claim.
