@@ -127,7 +127,8 @@ ComputeQualityReport(const TetrahedralMesh & mesh, const LabelVolume & segmentat
 void
 PrintQualityReport(const QualityReport & report, std::ostream & out);
 
-/** Writes the report as a JSON object, for programs; non-finite numbers are written as null. Keys: input,
+/** Writes the report as a JSON object (nlohmann-json), for programs; non-finite numbers are written as null,
+ * doubles to their last digit, bytes of file names that are not UTF-8 as U+FFFD. Keys, in this order: input,
  * output, parameters {delta_mm, radius_edge_bound, min_dihedral_angle_deg}, vertices, tetrahedra,
  * boundary_triangles, quality {min_dihedral_angle_deg, max_dihedral_angle_deg, max_radius_edge_ratio,
  * min_boundary_planar_angle_deg, inverted_tetrahedra, manifold, non_manifold_edges, non_manifold_vertices},

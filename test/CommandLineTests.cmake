@@ -6,8 +6,10 @@ endif()
 
 # The quality report on hand-made meshes whose answers are known.
 add_executable(DelaunayImageToMeshCommandLineReportGTests DelaunayImageToMeshCommandLineQualityReportGTest.cxx)
+# They read the JSON report back with nlohmann-json, the library that writes it.
+find_package(nlohmann_json 3.10 REQUIRED)
 target_link_libraries(DelaunayImageToMeshCommandLineReportGTests
-  PRIVATE DelaunayImageToMeshIO GTest::gtest GTest::gtest_main)
+  PRIVATE DelaunayImageToMeshIO GTest::gtest GTest::gtest_main nlohmann_json::nlohmann_json)
 gtest_discover_tests(DelaunayImageToMeshCommandLineReportGTests DISCOVERY_TIMEOUT 120 PROPERTIES TIMEOUT 600)
 
 # The program is built by examples/, which only the plain-CMake build adds (the remote-module path does not).
