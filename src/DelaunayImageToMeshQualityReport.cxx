@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "DelaunayImageToMeshQualityReport.h"
+#include "DelaunayImageToMeshVoxelComponents.h"
 
 #include <nlohmann/json.hpp>
 
@@ -127,8 +128,13 @@ MeasureLabels(const TetrahedralMesh & mesh, const LabelVolume & segmentation)
   }
   for (auto & labelAndQuality : labels)
   {
-    labelAndQuality.second.label = labelAndQuality.first;
-    labelAndQuality.second.boundary = ComputeLabelBoundaryTopology(mesh, labelAndQuality.first);
+    LabelQuality & quality = labelAndQuality.second;
+    quality.label = labelAndQuality.first;
+    quality.boundary = ComputeLabelBoundaryTopology(mesh, quality.label);
+    if (quality.IsLost())
+    {
+      quality.lostComponents = CountVoxelComponents(segmentation, quality.label);
+    }
   }
   return labels;
 }
@@ -228,24 +234,33 @@ DistanceJson(const QualityReport & report)
            { "max_mm", distance.maximum } };
 }
 
-/** The genus of a surface that is not a closed manifold means nothing: it is written as null. */
+/** The genus of a surface that is not a closed manifold means nothing, and a lost label has neither genus nor
+ * angle: they are written as null. */
 Json
 LabelJson(const LabelQuality & quality)
 {
   const SurfaceTopology & boundary = quality.boundary;
-  const bool              closed = boundary.IsClosedManifold();
-  return { { "label", quality.label },
-           { "vertices", quality.vertices },
-           { "tetrahedra", quality.tetrahedra },
-           { "boundary_triangles", boundary.numberOfTriangles },
-           { "mesh_volume_mm3", quality.meshVolume },
-           { "segmented_volume_mm3", quality.segmentedVolume },
-           { "boundary_components", boundary.numberOfComponents },
-           { "boundary_genus", closed ? Json(boundary.totalGenus) : Json() },
-           { "boundary_component_genera", closed ? Json(boundary.componentGenera) : Json() },
-           { "non_manifold_edges", boundary.nonManifoldEdges },
-           { "non_manifold_vertices", boundary.nonManifoldVertices },
-           { "min_planar_angle_deg", boundary.minimumPlanarAngle } };
+  const bool              lost = quality.IsLost();
+  const bool              closed = boundary.IsClosedManifold() && !lost;
+  Json                    json{ { "label", quality.label },
+             { "vertices", quality.vertices },
+             { "tetrahedra", quality.tetrahedra },
+             { "boundary_triangles", boundary.numberOfTriangles },
+             { "mesh_volume_mm3", quality.meshVolume },
+             { "segmented_volume_mm3", quality.segmentedVolume },
+             { "boundary_components", boundary.numberOfComponents },
+             { "boundary_genus", closed ? Json(boundary.totalGenus) : Json() },
+             { "boundary_component_genera", closed ? Json(boundary.componentGenera) : Json() },
+             { "non_manifold_edges", boundary.nonManifoldEdges },
+             { "non_manifold_vertices", boundary.nonManifoldVertices },
+             { "min_planar_angle_deg", lost ? Json() : Json(boundary.minimumPlanarAngle) },
+             { "lost", lost } };
+  if (lost)
+  {
+    json["lost_components"] = quality.lostComponents;
+    json["lost_volume_mm3"] = quality.segmentedVolume;
+  }
+  return json;
 }
 
 Json
@@ -316,6 +331,29 @@ PhasesText(const MeshingRun & run)
   return text;
 }
 
+/** "2 components, 1.0 mm^3": what the segmentation had of a lost label. */
+std::string
+LostText(const LabelQuality & quality)
+{
+  return std::to_string(quality.lostComponents) + (quality.lostComponents == 1 ? " component, " : " components, ") +
+         Fixed(quality.segmentedVolume, 1) + " mm^3";
+}
+
+/** "label 3 (1 component, 1.0 mm^3)" for each lost label; empty if none is lost. */
+std::string
+LostLabelsText(const std::vector<LabelQuality> & labels)
+{
+  std::string text;
+  for (const LabelQuality & quality : labels)
+  {
+    if (quality.IsLost())
+    {
+      text += (text.empty() ? "label " : ", label ") + std::to_string(quality.label) + " (" + LostText(quality) + ")";
+    }
+  }
+  return text;
+}
+
 void
 PrintSummary(const QualityReport & report, std::ostream & out)
 {
@@ -343,6 +381,11 @@ PrintSummary(const QualityReport & report, std::ostream & out)
            "volume mesh / segmented",
            Fixed(report.meshVolume, 1) + " / " + Fixed(report.segmentedVolume, 1) + " mm^3 (" +
              SignedPercent(report.meshVolume, report.segmentedVolume) + ")");
+  const std::string lostLabels = LostLabelsText(report.labels);
+  if (!lostLabels.empty())
+  {
+    PrintRow(out, "LOST tissues", lostLabels);
+  }
   const DistanceStatistics & distance = report.distanceToMarchingCubes;
   PrintRow(out,
            "distance to marching cubes",
@@ -367,24 +410,28 @@ PrintLabelTable(const std::vector<LabelQuality> & labels, std::ostream & out)
   out << '\n';
   for (const LabelQuality & quality : labels)
   {
-    const SurfaceTopology &        boundary = quality.boundary;
-    const std::vector<std::string> cells{ std::to_string(quality.label),
-                                          std::to_string(quality.vertices),
-                                          std::to_string(quality.tetrahedra),
-                                          std::to_string(boundary.numberOfTriangles),
-                                          Fixed(quality.meshVolume, 1),
-                                          Fixed(quality.segmentedVolume, 1),
-                                          std::to_string(boundary.numberOfComponents),
-                                          boundary.IsClosedManifold() ? std::to_string(boundary.totalGenus) : "-",
-                                          std::to_string(boundary.nonManifoldEdges) + "/" +
-                                            std::to_string(boundary.nonManifoldVertices),
-                                          Fixed(boundary.minimumPlanarAngle, 2) };
+    const SurfaceTopology & boundary = quality.boundary;
+    const bool              lost = quality.IsLost();
+    // A lost label's boundary is empty: it has no components, genus or angle to show.
+    const auto                     boundaryCell = [lost](const std::string & text) { return lost ? "-" : text; };
+    const std::vector<std::string> cells{
+      std::to_string(quality.label),
+      std::to_string(quality.vertices),
+      std::to_string(quality.tetrahedra),
+      std::to_string(boundary.numberOfTriangles),
+      Fixed(quality.meshVolume, 1),
+      Fixed(quality.segmentedVolume, 1),
+      boundaryCell(std::to_string(boundary.numberOfComponents)),
+      boundaryCell(boundary.IsClosedManifold() ? std::to_string(boundary.totalGenus) : "-"),
+      boundaryCell(std::to_string(boundary.nonManifoldEdges) + "/" + std::to_string(boundary.nonManifoldVertices)),
+      boundaryCell(Fixed(boundary.minimumPlanarAngle, 2))
+    };
     out << "  ";
     for (std::size_t i = 0; i < cells.size(); ++i)
     {
       out << std::right << std::setw(columns[i].second) << cells[i];
     }
-    out << '\n';
+    out << (lost ? "  lost: " + LostText(quality) : "") << '\n';
   }
 }
 

@@ -56,6 +56,11 @@ add_test(NAME DelaunayImageToMeshCommandLine.Config
   COMMAND ${DelaunayImageToMesh_TEST_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/DelaunayImageToMeshCommandLineConfig.py
     ${command_line_program} ${command_line_images} ${command_line_output}/config)
 
+# A tissue the mesh loses (two voxels at the default delta) reads as lost in the table and the JSON report.
+add_test(NAME DelaunayImageToMeshCommandLine.LostTissue
+  COMMAND ${DelaunayImageToMesh_TEST_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/DelaunayImageToMeshCommandLineLostTissue.py
+    ${command_line_program} ${command_line_images} ${command_line_output}/lost-tissue)
+
 set_tests_properties(
   DelaunayImageToMeshCommandLine.OutputFormat.vtu
   DelaunayImageToMeshCommandLine.OutputFormat.vtk
@@ -64,6 +69,7 @@ set_tests_properties(
   DelaunayImageToMeshCommandLine.Inputs
   DelaunayImageToMeshCommandLine.Errors
   DelaunayImageToMeshCommandLine.Config
+  DelaunayImageToMeshCommandLine.LostTissue
   PROPERTIES FIXTURES_REQUIRED CommandLineImages TIMEOUT 600 ENVIRONMENT PYTHONDONTWRITEBYTECODE=1)
 
 # The picture scripts of examples/ still draw what they claim.

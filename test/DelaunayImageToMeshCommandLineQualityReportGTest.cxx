@@ -253,16 +253,61 @@ TEST(QualityReport, TwoLabelsMeetAtAnInterface)
   EXPECT_TRUE(report.IsManifold());
 }
 
-TEST(QualityReport, LabelOnlyInTheSegmentationIsListed)
+TEST(QualityReport, LabelOnlyInTheSegmentationIsLost)
 {
-  TetrahedralMesh mesh = KuhnCube(1);
+  TetrahedralMesh mesh = KuhnCube(2);
   AddBoundaryTriangles(mesh);
-  // Label 3 lost by the mesher (too small, say) must show up with its voxels and no tetrahedron.
-  const QualityReport report = ComputeQualityReport(mesh, CubeSegmentation(3));
-  ASSERT_EQ(report.labels.size(), 2u);
-  EXPECT_EQ(EntryOf(report, 3).tetrahedra, 0u);
-  EXPECT_NEAR(EntryOf(report, 3).segmentedVolume, 0.25, Tolerance);
-  EXPECT_NEAR(report.segmentedVolume, 1.0, Tolerance);
+  // Label 3, which the mesh lacks (too thin for δ, say), has two pieces outside the cube: voxels (0, 0, 0) and
+  // (0, 0, 1), which share a face, and voxel (3, 3, 3); 3 voxels of 0.125 mm³. Label 2, next in value, must
+  // not be counted with it.
+  LabelVolume segmentation = CubeSegmentation(2);
+  for (const std::size_t voxel : { 0, 16, 63 })
+  {
+    segmentation.labels[voxel] = 3;
+  }
+  const QualityReport report = ComputeQualityReport(mesh, segmentation);
+  ASSERT_EQ(report.labels.size(), 3u);
+  EXPECT_FALSE(EntryOf(report, 2).IsLost());
+  EXPECT_EQ(EntryOf(report, 2).lostComponents, 0u);
+  const LabelQuality & lost = EntryOf(report, 3);
+  EXPECT_TRUE(lost.IsLost());
+  EXPECT_EQ(lost.tetrahedra, 0u);
+  EXPECT_EQ(lost.lostComponents, 2u);
+  EXPECT_NEAR(lost.segmentedVolume, 0.375, Tolerance);
+  EXPECT_NEAR(report.segmentedVolume, 1.375, Tolerance);
+
+  const nlohmann::ordered_json   json = JsonOf(report);
+  const nlohmann::ordered_json & meshed = json["labels"][1];
+  EXPECT_EQ(meshed["lost"], false) << meshed;
+  EXPECT_FALSE(meshed.contains("lost_components")) << meshed;
+  const nlohmann::ordered_json & entry = json["labels"][2];
+  EXPECT_EQ(entry["label"], 3) << entry;
+  EXPECT_EQ(entry["lost"], true) << entry;
+  EXPECT_EQ(entry["lost_components"], 2) << entry;
+  EXPECT_NEAR(entry["lost_volume_mm3"].get<double>(), 0.375, Tolerance) << entry;
+  // An empty boundary has no angle and no genus.
+  EXPECT_TRUE(entry["min_planar_angle_deg"].is_null()) << entry;
+  EXPECT_TRUE(entry["boundary_genus"].is_null()) << entry;
+  EXPECT_TRUE(entry["boundary_component_genera"].is_null()) << entry;
+
+  std::ostringstream table;
+  PrintQualityReport(report, table);
+  EXPECT_NE(table.str().find("LOST tissues                label 3 (2 components, 0.4 mm^3)\n"), std::string::npos)
+    << table.str();
+  // The row: no components, genus, non-manifold counts or angle, but what was lost.
+  EXPECT_NE(table.str().find("\n        3         0           0          0         0.0         0.4           -      -"
+                             "               -          -  lost: 2 components, 0.4 mm^3\n"),
+            std::string::npos)
+    << table.str();
+  EXPECT_EQ(table.str().find("180.00"), std::string::npos) << table.str();
+}
+
+TEST(QualityReport, NothingLostNoLostRow)
+{
+  std::ostringstream table;
+  PrintQualityReport(CubeReport(2), table);
+  EXPECT_EQ(table.str().find("lost"), std::string::npos) << table.str();
+  EXPECT_EQ(table.str().find("LOST"), std::string::npos) << table.str();
 }
 
 TEST(QualityReport, InconsistentMeshIsRejected)
