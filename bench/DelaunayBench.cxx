@@ -24,8 +24,11 @@
 #include "DelaunayBenchMeshers.h"
 #include "DelaunayImageToMeshQualityReport.h"
 #include "DelaunayRefinementMeshQuality.h"
+#include "DelaunayRefinementMesher.h"
 
 #include "itkMultiThreaderBase.h"
+
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -35,7 +38,6 @@
 #include <iostream>
 #include <limits>
 #include <optional>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -69,85 +71,50 @@ struct Options
   std::string         dataDirectory{ DefaultDataDirectory };
 };
 
-void
-PrintUsage()
+/** Parses the command line into `options` (CLI11); nullopt when it was parsed, else the exit code after --help or
+ * a mistake. */
+std::optional<int>
+ParseOptions(int argc, char * argv[], Options & options)
 {
-  std::cerr
-    << "usage: delaunay-bench [--quick] [--runs N] [--images NAME[,NAME...]] [--deltas D[,D...]] [--ours-only]\n"
-       "                      [--data-dir DIR]\n"
-       "  --quick      a short run: the small and the 2-3 mm images, one delta each, one run\n"
-       "  --runs N     timed runs per mesher, the median is reported (default 3; 1 with --quick)\n"
-       "  --images     only these images (sphere-64, torus-64, sphere-128, torus-128, brain-mask,\n"
-       "               kmeans-tissues, brain-mask-1mm, kmeans-tissues-1mm)\n"
-       "  --deltas     these delta values (mm) for every selected image instead of each image's own\n"
-       "  --ours-only  run our filter only (for profiling)\n"
-       "  --data-dir   where ITK's example images are (default "
-    << DefaultDataDirectory << ")\n";
-}
-
-std::vector<std::string>
-SplitAtCommas(const std::string & text)
-{
-  std::vector<std::string> parts;
-  std::istringstream       stream(text);
-  for (std::string part; std::getline(stream, part, ',');)
+  CLI::App app("Our refinement against CGAL's Mesh_3 on the same images (bench/README.md).", "delaunay-bench");
+  app.add_flag("--quick", options.quick, "a short run: the small and the 2-3 mm images, one delta each, one run");
+  app.add_option("--runs", options.runs, "timed runs per mesher, the median is reported (default 3; 1 with --quick)")
+    ->check(CLI::Range(1, std::numeric_limits<int>::max()));
+  app
+    .add_option("--images",
+                options.imageNames,
+                "only these images (sphere-64, torus-64, sphere-128, torus-128, brain-mask,\nkmeans-tissues, "
+                "brain-mask-1mm, kmeans-tissues-1mm)")
+    ->delimiter(',');
+  app
+    .add_option("--deltas",
+                options.deltas,
+                "these delta values (mm) for every selected image instead of each\n"
+                "image's own")
+    ->delimiter(',');
+  app.add_flag("--ours-only", options.oursOnly, "run our filter only (for profiling)");
+  app.add_option("--data-dir", options.dataDirectory, "where ITK's example images are")->capture_default_str();
+  try
   {
-    parts.push_back(part);
+    app.parse(argc, argv);
   }
-  return parts;
-}
-
-std::optional<Options>
-ParseOptions(int argc, char * argv[])
-{
-  Options options;
-  for (int i = 1; i < argc; ++i)
+  catch (const CLI::ParseError & error)
   {
-    const std::string argument = argv[i];
-    const bool        hasValue = i + 1 < argc;
-    if (argument == "--quick")
-    {
-      options.quick = true;
-    }
-    else if (argument == "--ours-only")
-    {
-      options.oursOnly = true;
-    }
-    else if (argument == "--runs" && hasValue)
-    {
-      options.runs = std::atoi(argv[++i]);
-    }
-    else if (argument == "--images" && hasValue)
-    {
-      options.imageNames = SplitAtCommas(argv[++i]);
-    }
-    else if (argument == "--deltas" && hasValue)
-    {
-      for (const std::string & delta : SplitAtCommas(argv[++i]))
-      {
-        options.deltas.push_back(std::atof(delta.c_str()));
-      }
-    }
-    else if (argument == "--data-dir" && hasValue)
-    {
-      options.dataDirectory = argv[++i];
-    }
-    else
-    {
-      return std::nullopt;
-    }
+    // CLI11 prints the help or the mistake; the exit codes stay 0 and EXIT_FAILURE, as before it.
+    return app.exit(error) == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
   }
   if (options.runs == 0)
   {
     options.runs = options.quick ? 1 : 3;
   }
-  const bool positiveDeltas =
-    std::all_of(options.deltas.begin(), options.deltas.end(), [](double delta) { return delta > 0.0; });
-  if (options.runs < 1 || !positiveDeltas)
+  // The refinement core's ranges, checked before minutes of other images.
+  for (const double delta : options.deltas)
   {
-    return std::nullopt;
+    dr::RefinementParameters parameters;
+    parameters.surfaceSamplingDistance = delta;
+    dr::ValidateParameters(parameters);
   }
-  return options;
+  return std::nullopt;
 }
 
 double
@@ -600,15 +567,14 @@ RunBenchmark(const Options & options)
 int
 main(int argc, char * argv[])
 {
-  const std::optional<Options> options = ParseOptions(argc, argv);
-  if (!options)
-  {
-    PrintUsage();
-    return EXIT_FAILURE;
-  }
   try
   {
-    return RunBenchmark(*options);
+    Options options;
+    if (const std::optional<int> exitCode = ParseOptions(argc, argv, options))
+    {
+      return *exitCode;
+    }
+    return RunBenchmark(options);
   }
   catch (const std::exception & error)
   {

@@ -27,14 +27,14 @@
 #include "itkGDCMSeriesFileNames.h"
 #include "itkImageFileReader.h"
 #include "itkImageIOFactory.h"
-#include "itkImageRegionConstIterator.h"
 #include "itkImageSeriesReader.h"
 #include "itkLabelVolume.h"
 #include "itkMesh.h"
 #include "itkVersion.h"
 
+#include <CLI/CLI.hpp>
+
 #include <algorithm>
-#include <cctype>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -45,7 +45,6 @@
 #include <iostream>
 #include <optional>
 #include <regex>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -64,6 +63,7 @@ namespace
 {
 
 using delaunay_refinement::Label;
+using delaunay_refinement::RefinementParameters;
 
 constexpr const char * ProgramName = "delaunay-image-to-mesh";
 constexpr int          FailureExitCode = 2;
@@ -82,367 +82,225 @@ public:
 /** What the command line asks for. Defaults are the refinement core's. */
 struct Options
 {
-  enum class Action
-  {
-    Mesh,
-    PrintHelp,
-    PrintVersion
-  };
-  Action      action{ Action::Mesh };
   std::string inputPath;
   std::string outputPath;
   /** 0 = the filter's automatic δ, 4 × the largest voxel spacing. */
   double surfaceSamplingDistance{ 0.0 };
-  double radiusEdgeBound{ delaunay_refinement::RefinementParameters{}.radiusEdgeBound };
-  double minimumDihedralAngle{ 0.0 };
-  /** Empty = every non-zero label. */
-  std::vector<Label>    labels;
-  bool                  mergeLabels{ false };
-  bool                  joinDiagonalVoxels{ true };
-  std::optional<double> isoValue;
-  std::size_t           maximumNumberOfVertices{ delaunay_refinement::RefinementParameters{}.maximumNumberOfVertices };
-  std::string           reportPath;
-  bool                  quiet{ false };
+  double radiusEdgeBound{ RefinementParameters{}.radiusEdgeBound };
+  double minimumDihedralAngle{ RefinementParameters{}.minimumDihedralAngle };
+  /** As typed: "all" or labels. */
+  std::vector<std::string> labels;
+  bool                     mergeLabels{ false };
+  bool                     keepDiagonalVoxels{ false };
+  std::optional<double>    isoValue;
+  std::size_t              maximumNumberOfVertices{ RefinementParameters{}.maximumNumberOfVertices };
+  std::string              reportPath;
+  bool                     quiet{ false };
 };
 
-void
-PrintHelp(std::ostream & out)
-{
-  out << "Usage: " << ProgramName << " INPUT OUTPUT [options]\n"
-      << "\n"
-      << "Meshes the labelled regions of a 3-D image into tetrahedra by Delaunay refinement straight from the\n"
-      << "image. With the default radius-edge bound every tetrahedron has circumradius / shortest edge < 2 and\n"
-      << "every boundary triangle has all angles > 30 degrees; for a small enough --delta the boundary is a\n"
-      << "closed manifold close to the object's surface. Tissues (labels) are meshed conformingly.\n"
-      << "\n"
-      << "  INPUT    a 3-D image: NIfTI (.nii, .nii.gz), NRRD (.nrrd, .nhdr), MetaImage (.mha, .mhd), or a\n"
-      << "           directory holding a DICOM series (the first series found is read)\n"
-      << "  OUTPUT   the mesh, format by extension: .vtu (VTK XML), .vtk (VTK legacy), .msh (Gmsh 4.1),\n"
-      << "           .mesh (Medit); every tetrahedron carries its label\n"
-      << "\n"
-      << "Options:\n"
-      << "  --delta MM               surface sampling distance delta in mm: smaller is finer and closer to the\n"
-      << "                           surface (default: 4 x the largest voxel spacing, the filter's automatic value)\n"
-      << "  --radius-edge R          radius-edge bound rho, >= 1 (default: "
-      << delaunay_refinement::RefinementParameters{}.radiusEdgeBound << "; the guarantees above hold with it)\n"
-      << "  --min-dihedral DEG       also split tetrahedra with a dihedral angle below DEG, 0 to 30 (the R4'\n"
-      << "                           variant; default: off). Nothing is proven with it.\n"
-      << "  --labels all|L1,L2,...   the labels to mesh, each as a tissue (default: all = every non-zero label)\n"
-      << "  --merge-labels           mesh the selected labels as one object, label 1 (e.g. a mask whose values\n"
-      << "                           are classes; default: each label is a tissue)\n"
-      << "  --keep-diagonal-voxels   do not join voxels of a tissue that touch only along an edge (default: one of\n"
-      << "                           the two background voxels at that edge joins them, so that the boundary can\n"
-      << "                           be a manifold there)\n"
-      << "  --iso VALUE              treat INPUT as a gray image: mesh where the linearly interpolated value is\n"
-      << "                           >= VALUE, as label 1 (cannot be combined with --labels or --merge-labels)\n"
-      << "  --max-vertices N         fail beyond N vertices (default: "
-      << delaunay_refinement::RefinementParameters{}.maximumNumberOfVertices << ")\n"
-      << "  --report FILE.json       also write the quality report as JSON\n"
-      << "  --quiet                  print nothing but errors (no progress, no report table)\n"
-      << "  --version                print the version and exit\n"
-      << "  --help                   print this help and exit\n"
-      << "\n"
-      << "Progress goes to stderr, the quality report table to stdout. Exit status: 0 on success, 2 on bad\n"
-      << "arguments, unreadable or unwritable files and meshing failures, with a one-line error on stderr.\n"
-      << "\n"
-      << "Example: " << ProgramName << " brain.nii.gz brain.vtu --delta 4 --report brain-report.json\n";
-}
-
-void
-PrintVersion(std::ostream & out)
-{
-  out << ProgramName << ' ' << DelaunayImageToMesh_PROGRAM_VERSION << " (ITK " << itk::Version::GetITKVersion()
-      << ")\n";
-}
-
 // ---------------------------------------------------------------------------------------------------------------
-// Arguments.
+// Arguments: CLI11 parses and type-checks them; the core's ValidateParameters checks the refinement parameters.
 
-double
-ParseNumber(const std::string & option, const std::string & text)
+/** A CLI11 check: "`need`, got 'text'" unless `valid(text)`. */
+CLI::Validator
+Requirement(std::function<bool(const std::string &)> valid, const std::string & need)
 {
-  char *       end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !std::isfinite(value))
-  {
-    throw UserError(option + " needs a number, got '" + text + "'");
-  }
-  return value;
+  return { [=](const std::string & text) { return valid(text) ? std::string() : need + ", got '" + text + "'"; }, "" };
 }
 
-/** A number for `option` for which `isValid` holds; `validity` says which numbers those are. */
-template <typename TPredicate>
-double
-ParseNumberWhere(const std::string & option, const std::string & text, TPredicate isValid, const std::string & validity)
+/** Rejects an out-of-range value before the image is read, with the core's message after the option's name. */
+template <typename TValue>
+CLI::Validator
+CoreRange(TValue RefinementParameters::*parameter)
 {
-  const double value = ParseNumber(option, text);
-  if (!isValid(value))
-  {
-    throw UserError(option + " must be " + validity + ", got '" + text + "'");
-  }
-  return value;
+  return { [parameter](const std::string & text) {
+            RefinementParameters parameters;
+            try
+            {
+              // Text that is no TValue at all is CLI11's to report, as a conversion error.
+              if (CLI::detail::lexical_cast(text, parameters.*parameter))
+              {
+                delaunay_refinement::ValidateParameters(parameters);
+              }
+            }
+            catch (const std::invalid_argument & error)
+            {
+              return std::string(error.what());
+            }
+            return std::string();
+          },
+           "" };
 }
 
-std::size_t
-ParseVertexLimit(const std::string & option, const std::string & text)
-{
-  // The core needs room for the 8 corners of its bounding box.
-  constexpr std::size_t smallest = 8;
-  const std::regex      digits("[0-9]{1,18}");
-  if (!std::regex_match(text, digits) || std::stoull(text) < smallest)
-  {
-    throw UserError(option + " must be a whole number >= " + std::to_string(smallest) + ", got '" + text + "'");
-  }
-  return static_cast<std::size_t>(std::stoull(text));
-}
+// CLI11 2.1 reads "-5" into an unsigned integer as 2^64 - 5.
+const CLI::Validator WholeNumber = Requirement(
+  [](const std::string & text) { return !text.empty() && text.find_first_not_of("0123456789") == std::string::npos; },
+  "needs a whole number");
+// CLI11 reads "nan" and "inf" as numbers; no gray value is either.
+const CLI::Validator FiniteNumber = Requirement(
+  [](const std::string & text) {
+    double value = 0.0;
+    return !CLI::detail::lexical_cast(text, value) || std::isfinite(value);
+  },
+  "needs a finite number");
+const CLI::Validator LabelOrAll = Requirement(
+  [](const std::string & text) {
+    Label label = delaunay_refinement::BackgroundLabel;
+    return text == "all" || (CLI::detail::lexical_cast(text, label) && label != delaunay_refinement::BackgroundLabel);
+  },
+  "needs 'all' or comma-separated integer labels such as 1,2 (0, the background, cannot be selected)");
 
+// The output paths are checked before reading and meshing, which may take minutes, rather than when written.
+const CLI::Validator InExistingDirectory(
+  [](const std::string & path) {
+    const std::filesystem::path directory = std::filesystem::path(path).parent_path();
+    std::error_code             error;
+    return directory.empty() || std::filesystem::is_directory(directory, error)
+             ? std::string()
+             : "directory '" + directory.string() + "' does not exist";
+  },
+  "");
+const CLI::Validator MeshFileExtension(
+  [](const std::string & path) {
+    const std::vector<std::string> supported = delaunay_refinement::SupportedMeshFileExtensions();
+    const std::string              extension = CLI::detail::to_lower(std::filesystem::path(path).extension().string());
+    return std::find(supported.begin(), supported.end(), extension) != supported.end()
+             ? std::string()
+             : "unsupported output extension '" + extension + "' (supported: " + CLI::detail::join(supported, ", ") +
+                 ")";
+  },
+  "");
+
+/** The labels to mesh, from --labels checked by LabelOrAll; empty = every non-zero label. */
 std::vector<Label>
-ParseLabels(const std::string & option, const std::string & text)
+SelectedLabels(const std::vector<std::string> & items)
 {
-  if (text == "all")
-  {
-    return {};
-  }
-  const std::regex labelList("-?[0-9]{1,9}(,-?[0-9]{1,9})*");
-  if (!std::regex_match(text, labelList))
-  {
-    throw UserError(option + " needs 'all' or comma-separated integer labels such as 1,2, got '" + text + "'");
-  }
   std::vector<Label> labels;
-  std::istringstream list(text);
-  for (std::string item; std::getline(list, item, ',');)
+  for (const std::string & item : items)
   {
+    if (item == "all")
+    {
+      return {};
+    }
     labels.push_back(static_cast<Label>(std::stol(item)));
   }
-  if (std::count(labels.begin(), labels.end(), delaunay_refinement::BackgroundLabel) > 0)
-  {
-    throw UserError(option + " cannot select label 0, the background, got '" + text + "'");
-  }
-  std::sort(labels.begin(), labels.end());
-  labels.erase(std::unique(labels.begin(), labels.end()), labels.end());
   return labels;
 }
 
-/** The value of the option at `arguments[index]`: after '=' in the same argument, or the next argument. */
-class OptionValue
-{
-public:
-  OptionValue(const std::vector<std::string> & arguments, std::size_t & index, std::optional<std::string> inlineValue)
-    : m_Arguments(arguments)
-    , m_Index(index)
-    , m_InlineValue(std::move(inlineValue))
-  {}
-
-  std::string
-  Take(const std::string & option, const std::string & placeholder)
-  {
-    if (m_InlineValue)
-    {
-      return *m_InlineValue;
-    }
-    if (m_Index + 1 >= m_Arguments.size())
-    {
-      throw UserError("option " + option + " needs a value (" + option + " " + placeholder + ")");
-    }
-    return m_Arguments[++m_Index];
-  }
-
-  void
-  RequireNone(const std::string & option) const
-  {
-    if (m_InlineValue)
-    {
-      throw UserError("option " + option + " takes no value, got '" + *m_InlineValue + "'");
-    }
-  }
-
-private:
-  const std::vector<std::string> & m_Arguments;
-  std::size_t &                    m_Index;
-  std::optional<std::string>       m_InlineValue;
-};
-
-/** Applies --quiet, --help or --version; false if `option` is none of them. */
-bool
-ApplyFlag(const std::string & option, const OptionValue & value, Options & options)
-{
-  if (option == "--quiet")
-  {
-    options.quiet = true;
-  }
-  else if (option == "--merge-labels")
-  {
-    options.mergeLabels = true;
-  }
-  else if (option == "--keep-diagonal-voxels")
-  {
-    options.joinDiagonalVoxels = false;
-  }
-  else if (option == "--help")
-  {
-    options.action = Options::Action::PrintHelp;
-  }
-  else if (option == "--version")
-  {
-    options.action = Options::Action::PrintVersion;
-  }
-  else
-  {
-    return false;
-  }
-  value.RequireNone(option);
-  return true;
-}
-
-/** The valid ranges are the refinement core's (ValidateParameters); they are checked here as well so that the
- * message names the option, and before the image is read. */
 void
-ApplyOption(const std::string & option, OptionValue & value, Options & options)
+AddOptions(CLI::App & app, Options & options)
 {
-  if (ApplyFlag(option, value, options))
-  {
-    return;
-  }
-  if (option == "--delta")
-  {
-    options.surfaceSamplingDistance = ParseNumberWhere(
-      option, value.Take(option, "MM"), [](double delta) { return delta > 0.0; }, "a distance > 0 in mm");
-  }
-  else if (option == "--radius-edge")
-  {
-    options.radiusEdgeBound = ParseNumberWhere(
-      option, value.Take(option, "R"), [](double rho) { return rho >= 1.0; }, ">= 1");
-  }
-  else if (option == "--min-dihedral")
-  {
-    options.minimumDihedralAngle = ParseNumberWhere(
-      option,
-      value.Take(option, "DEG"),
-      [](double sigma) { return sigma >= 0.0 && sigma <= 30.0; },
-      "in [0, 30] degrees");
-  }
-  else if (option == "--labels")
-  {
-    options.labels = ParseLabels(option, value.Take(option, "all|L1,L2,..."));
-  }
-  else if (option == "--iso")
-  {
-    options.isoValue = ParseNumber(option, value.Take(option, "VALUE"));
-  }
-  else if (option == "--max-vertices")
-  {
-    options.maximumNumberOfVertices = ParseVertexLimit(option, value.Take(option, "N"));
-  }
-  else if (option == "--report")
-  {
-    options.reportPath = value.Take(option, "FILE.json");
-  }
-  else
-  {
-    throw UserError("unknown option '" + option + "' (see --help)");
-  }
+  app.add_option("INPUT", options.inputPath)
+    ->description("a 3-D image: NIfTI (.nii, .nii.gz), NRRD (.nrrd, .nhdr), MetaImage (.mha,\n.mhd), or a directory "
+                  "holding a DICOM series (the first series found is read)")
+    ->type_name("")
+    ->required();
+  app.add_option("OUTPUT", options.outputPath)
+    ->description("the mesh, format by extension: .vtu (VTK XML), .vtk (VTK legacy), .msh\n(Gmsh 4.1), .mesh "
+                  "(Medit); every tetrahedron carries its label")
+    ->type_name("")
+    ->required()
+    ->check(MeshFileExtension)
+    ->check(InExistingDirectory);
+
+  app.option_defaults()->group("Meshing");
+  app.add_option("-d,--delta", options.surfaceSamplingDistance)
+    ->description("surface sampling distance delta in mm: smaller is finer and closer to the\nsurface (default: 4 x "
+                  "the largest voxel spacing, the filter's automatic value)")
+    ->type_name("MM")
+    ->check(CoreRange(&RefinementParameters::surfaceSamplingDistance));
+  app.add_option("--radius-edge", options.radiusEdgeBound)
+    ->description("radius-edge bound rho, >= 1; the guarantees above hold with the default")
+    ->type_name("R")
+    ->capture_default_str()
+    ->check(CoreRange(&RefinementParameters::radiusEdgeBound));
+  app.add_option("--min-dihedral", options.minimumDihedralAngle)
+    ->description("also split tetrahedra with a dihedral angle below DEG, 0 to 30 (the R4'\nvariant; 0 = off). "
+                  "Nothing is proven with it.")
+    ->type_name("DEG")
+    ->capture_default_str()
+    ->check(CoreRange(&RefinementParameters::minimumDihedralAngle));
+  app.add_option("--max-vertices", options.maximumNumberOfVertices, "fail beyond N vertices")
+    ->type_name("N")
+    ->capture_default_str()
+    ->check(WholeNumber)
+    ->check(CoreRange(&RefinementParameters::maximumNumberOfVertices));
+
+  app.option_defaults()->group("Tissues");
+  CLI::Option * labels = app.add_option("--labels",
+                                        options.labels,
+                                        "the labels to mesh, each as a tissue (default: all = every "
+                                        "non-zero label)");
+  labels->type_name("all|L1,L2,...")->delimiter(',')->check(LabelOrAll);
+  CLI::Option * merge = app.add_flag("--merge-labels",
+                                     options.mergeLabels,
+                                     "mesh the selected labels as one object, label 1 (e.g. a mask whose\nvalues "
+                                     "are classes; default: each label is a tissue)");
+  app.add_flag("--keep-diagonal-voxels",
+               options.keepDiagonalVoxels,
+               "do not join voxels of a tissue that touch only along an edge (default: one\nof the two "
+               "background voxels at that edge joins them, so that the boundary\ncan be a manifold there)");
+  app.add_option("--iso", options.isoValue)
+    ->description("treat INPUT as a gray image: mesh where the linearly interpolated value is\n>= VALUE, as label 1")
+    ->type_name("VALUE")
+    ->check(FiniteNumber)
+    ->excludes(labels)
+    ->excludes(merge);
+
+  app.option_defaults()->group("Output");
+  app.add_option("--report", options.reportPath, "also write the quality report as JSON")
+    ->type_name("FILE.json")
+    ->check(InExistingDirectory);
+  app.add_flag("-q,--quiet", options.quiet, "print nothing but errors (no progress, no report table)");
 }
 
-void
-CheckPositionalArguments(const std::vector<std::string> & positional, Options & options)
+/** Parses the command line into `options`; nullopt when it was parsed, else the exit code after --help or
+ * --version. \throws UserError for any mistake. */
+std::optional<int>
+ParseArguments(int argc, char * argv[], Options & options)
 {
-  if (positional.size() > 2)
+  CLI::App app("Meshes the labelled regions of a 3-D image into tetrahedra by Delaunay refinement straight from the\n"
+               "image. With the default radius-edge bound every tetrahedron has circumradius / shortest edge < 2 and\n"
+               "every boundary triangle has all angles > 30 degrees; for a small enough --delta the boundary is a\n"
+               "closed manifold close to the object's surface. Tissues (labels) are meshed conformingly.\n",
+               ProgramName);
+  // As before CLI11: a repeated option takes its last value, so that a pipeline can append overrides.
+  app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast)->disable_flag_override();
+  app.set_help_flag("-h,--help", "print this help and exit");
+  app.set_version_flag("-V,--version",
+                       std::string(ProgramName) + ' ' + DelaunayImageToMesh_PROGRAM_VERSION + " (ITK " +
+                         itk::Version::GetITKVersion() + ")",
+                       "print the version and exit");
+  app
+    .set_config("--config",
+                "",
+                "read options from FILE, TOML or INI, one per line: delta = 2,\nlabels = [1, 2], "
+                "quiet = true; options on the command line win")
+    ->type_name("FILE");
+  // A misspelt key must not leave a parameter at its default unnoticed.
+  app.allow_config_extras(CLI::config_extras_mode::error);
+  AddOptions(app, options);
+  app.footer(std::string("Progress goes to stderr, the quality report table to stdout. Exit status: 0 on success, 2 "
+                         "on\nbad arguments, unreadable or unwritable files and meshing failures, with a one-line "
+                         "error\non stderr.\n\nExample: ") +
+             ProgramName + " brain.nii.gz brain.vtu -d 4 --report brain-report.json");
+  try
   {
-    throw UserError("unexpected argument '" + positional[2] + "': give exactly INPUT and OUTPUT (see --help)");
+    app.parse(argc, argv);
   }
-  if (positional.size() < 2)
+  catch (const CLI::Success & request)
   {
-    throw UserError(std::string(positional.empty() ? "missing INPUT and OUTPUT" : "missing OUTPUT") +
-                    " (usage: " + ProgramName + " INPUT OUTPUT [options])");
+    return app.exit(request);
   }
-  options.inputPath = positional[0];
-  options.outputPath = positional[1];
-}
-
-Options
-ParseArguments(const std::vector<std::string> & arguments)
-{
-  Options                  options;
-  std::vector<std::string> positional;
-  bool                     labelsGiven = false;
-  for (std::size_t index = 0; index < arguments.size(); ++index)
+  catch (const CLI::ParseError & error)
   {
-    const std::string & argument = arguments[index];
-    if (argument.size() < 2 || argument[0] != '-')
-    {
-      positional.push_back(argument);
-      continue;
-    }
-    const std::size_t          equals = argument.find('=');
-    const std::string          option = argument.substr(0, equals);
-    std::optional<std::string> inlineValue;
-    if (equals != std::string::npos)
-    {
-      inlineValue = argument.substr(equals + 1);
-    }
-    OptionValue value(arguments, index, inlineValue);
-    ApplyOption(option, value, options);
-    labelsGiven = labelsGiven || option == "--labels" || option == "--merge-labels";
+    throw UserError(error.what());
   }
-  if (options.action != Options::Action::Mesh)
-  {
-    return options;
-  }
-  if (labelsGiven && options.isoValue)
-  {
-    throw UserError("--iso cannot be combined with --labels or --merge-labels: --iso meshes a gray image as the "
-                    "single label 1");
-  }
-  CheckPositionalArguments(positional, options);
-  return options;
+  return std::nullopt;
 }
 
 // ---------------------------------------------------------------------------------------------------------------
 // Files.
-
-std::string
-LowerCaseExtension(const std::string & path)
-{
-  std::string extension = std::filesystem::path(path).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char character) {
-    return static_cast<char>(std::tolower(character));
-  });
-  return extension;
-}
-
-void
-CheckDirectoryOf(const std::string & path, const std::string & what)
-{
-  const std::filesystem::path directory = std::filesystem::path(path).parent_path();
-  std::error_code             error;
-  if (!directory.empty() && !std::filesystem::is_directory(directory, error))
-  {
-    throw UserError("cannot write " + what + " '" + path + "': directory '" + directory.string() + "' does not exist");
-  }
-}
-
-/** Checked before reading and meshing, which may take minutes, rather than when writing. */
-void
-CheckOutputPaths(const Options & options)
-{
-  const std::vector<std::string> supported = delaunay_refinement::SupportedMeshFileExtensions();
-  const std::string              extension = LowerCaseExtension(options.outputPath);
-  if (std::find(supported.begin(), supported.end(), extension) == supported.end())
-  {
-    std::string list;
-    for (const std::string & candidate : supported)
-    {
-      list += (list.empty() ? "" : ", ") + candidate;
-    }
-    throw UserError("cannot write '" + options.outputPath + "': unsupported output extension '" + extension +
-                    "' (supported: " + list + ")");
-  }
-  CheckDirectoryOf(options.outputPath, "the mesh");
-  if (!options.reportPath.empty())
-  {
-    CheckDirectoryOf(options.reportPath, "the report");
-  }
-}
 
 /** ITK's descriptions may span lines and start with "ITK ERROR: ClassName(0x...): "; the user needs one line,
  * the message. */
@@ -640,14 +498,14 @@ MakeFilter(const TImage * image, const Options & options)
   filter->SetRadiusEdgeBound(options.radiusEdgeBound);
   filter->SetMinimumDihedralAngle(options.minimumDihedralAngle);
   filter->SetMaximumNumberOfVertices(options.maximumNumberOfVertices);
-  filter->SetJoinDiagonalVoxels(options.joinDiagonalVoxels);
+  filter->SetJoinDiagonalVoxels(!options.keepDiagonalVoxels);
   if (options.isoValue)
   {
     filter->SetIsoValue(*options.isoValue);
   }
   else
   {
-    filter->SetLabels(options.labels);
+    filter->SetLabels(SelectedLabels(options.labels));
     filter->SetMergeLabels(options.mergeLabels);
   }
   return filter;
@@ -743,21 +601,13 @@ MeshImage(const Options & options)
 }
 
 int
-Run(const std::vector<std::string> & arguments)
+Run(int argc, char * argv[])
 {
-  const Options options = ParseArguments(arguments);
-  switch (options.action)
+  Options options;
+  if (const std::optional<int> exitCode = ParseArguments(argc, argv, options))
   {
-    case Options::Action::PrintHelp:
-      PrintHelp(std::cout);
-      return EXIT_SUCCESS;
-    case Options::Action::PrintVersion:
-      PrintVersion(std::cout);
-      return EXIT_SUCCESS;
-    case Options::Action::Mesh:
-      break;
+    return *exitCode;
   }
-  CheckOutputPaths(options);
   return options.isoValue ? MeshImage<GrayImageType>(options) : MeshImage<LabelImageType>(options);
 }
 
@@ -775,7 +625,7 @@ main(int argc, char * argv[])
 {
   try
   {
-    return Run(std::vector<std::string>(argv + 1, argv + argc));
+    return Run(argc, argv);
   }
   catch (const itk::ExceptionObject & error)
   {

@@ -64,6 +64,16 @@ struct LabelQuality
    * manifoldness, components, genus and smallest planar angle. The genus means nothing unless the boundary is
    * a closed manifold: otherwise it is printed as "-" and written as null. */
   SurfaceTopology boundary;
+  /** For a lost label (IsLost()), the face-connected pieces of its voxels in the segmentation; otherwise 0. */
+  std::size_t lostComponents{ 0 };
+
+  /** Whether the segmentation has voxels of this label but the mesh no tetrahedron: the mesher lost it (a tissue
+   * thinner than δ, say) or a later step removed it. Its boundary is then empty: it has no angle and no genus. */
+  bool
+  IsLost() const
+  {
+    return tetrahedra == 0 && segmentedVolume > 0.0;
+  }
 };
 
 /** Each tetrahedron's smallest dihedral angle, counted in bins of `binWidth` degrees from 0°: counts[i] is the
@@ -103,7 +113,8 @@ struct QualityReport
   DistanceStatistics distanceToMarchingCubes;
   double             distanceSampleSpacing{ 0.0 };
   AngleHistogram     minimumDihedralAngleHistogram;
-  /** One entry per label of the mesh or of the segmentation, in increasing label order. */
+  /** One entry per label of the mesh or of the segmentation, in increasing label order; a label only in the
+   * segmentation is lost (LabelQuality::IsLost()). */
   std::vector<LabelQuality> labels;
 
   /** Whether every label's boundary is a closed 2-manifold. */
@@ -123,18 +134,21 @@ struct QualityReport
 QualityReport
 ComputeQualityReport(const TetrahedralMesh & mesh, const LabelVolume & segmentation);
 
-/** Prints the report as a short table of aligned columns, for people. */
+/** Prints the report as a short table of aligned columns, for people. A lost label's row ends with "lost: N
+ * component(s), V mm^3" instead of angles and genus, and the summary lists the lost labels. */
 void
 PrintQualityReport(const QualityReport & report, std::ostream & out);
 
-/** Writes the report as a JSON object, for programs; non-finite numbers are written as null. Keys: input,
+/** Writes the report as a JSON object (nlohmann-json), for programs; non-finite numbers are written as null,
+ * doubles to their last digit, bytes of file names that are not UTF-8 as U+FFFD. Keys, in this order: input,
  * output, parameters {delta_mm, radius_edge_bound, min_dihedral_angle_deg}, vertices, tetrahedra,
  * boundary_triangles, quality {min_dihedral_angle_deg, max_dihedral_angle_deg, max_radius_edge_ratio,
  * min_boundary_planar_angle_deg, inverted_tetrahedra, manifold, non_manifold_edges, non_manifold_vertices},
  * mesh_volume_mm3, segmented_volume_mm3, distance_to_marching_cubes {sample_spacing_mm, samples, mean_mm,
  * percentile95_mm, max_mm}, labels [{label, vertices, tetrahedra, boundary_triangles, mesh_volume_mm3,
  * segmented_volume_mm3, boundary_components, boundary_genus, boundary_component_genera, non_manifold_edges,
- * non_manifold_vertices, min_planar_angle_deg}], min_dihedral_angle_histogram {bin_width_deg, counts},
+ * non_manifold_vertices, min_planar_angle_deg, lost, and for a lost label lost_components and lost_volume_mm3,
+ * its genus, genera and angle null}], min_dihedral_angle_histogram {bin_width_deg, counts},
  * time_seconds {phase: seconds}, peak_memory_bytes. */
 void
 WriteQualityReportJson(const QualityReport & report, std::ostream & out);

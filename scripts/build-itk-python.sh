@@ -14,7 +14,7 @@ build=$cache/build
 python=/usr/bin/python3   # Debian's Python: it has Debian's NumPy
 
 install_build_packages() {
-  local packages=(dpkg-dev swig castxml python3-dev python3-numpy libcgal-dev cmake g++ make ccache)
+  local packages=(dpkg-dev swig castxml python3-dev python3-numpy libcgal-dev libvtk9-dev libcli11-dev nlohmann-json3-dev cmake g++ make ccache)
   local missing=()
   for package in "${packages[@]}"; do
     dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")

@@ -13,6 +13,8 @@ packages=(
   libvtk9-dev               # VTK 9.1: .vtu/.vtk files, flying edges, rendering
   libgtest-dev              # GoogleTest
   libtbb-dev libeigen3-dev
+  libcli11-dev              # CLI11 2.1, header-only: the command line's options, --help and --config files
+  nlohmann-json3-dev        # nlohmann-json 3.11, header-only: the quality report's JSON, written and re-read
   insighttoolkit5-examples  # real segmented brain images for the tests and the sample run
   python3 python3-numpy python3-meshio python3-vtk9 python3-matplotlib xvfb  # tests re-read meshes (meshio, VTK); pictures
 )

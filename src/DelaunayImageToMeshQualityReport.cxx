@@ -16,10 +16,12 @@
  *
  *=========================================================================*/
 #include "DelaunayImageToMeshQualityReport.h"
+#include "DelaunayImageToMeshVoxelComponents.h"
+
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <iomanip>
 #include <locale>
@@ -126,8 +128,13 @@ MeasureLabels(const TetrahedralMesh & mesh, const LabelVolume & segmentation)
   }
   for (auto & labelAndQuality : labels)
   {
-    labelAndQuality.second.label = labelAndQuality.first;
-    labelAndQuality.second.boundary = ComputeLabelBoundaryTopology(mesh, labelAndQuality.first);
+    LabelQuality & quality = labelAndQuality.second;
+    quality.label = labelAndQuality.first;
+    quality.boundary = ComputeLabelBoundaryTopology(mesh, quality.label);
+    if (quality.IsLost())
+    {
+      quality.lostComponents = CountVoxelComponents(segmentation, quality.label);
+    }
   }
   return labels;
 }
@@ -190,203 +197,102 @@ AddDistanceToMarchingCubes(const TetrahedralMesh & mesh, const LabelVolume & seg
 }
 
 // ---------------------------------------------------------------------------------------------------------------
-// JSON, written by hand: the report is flat enough that a JSON library would be a dependency for nothing.
+// JSON. ordered_json keeps the members in the order people read them; nlohmann-json writes non-finite numbers
+// (JSON has none: a distance to an empty surface, say) as null.
 
-std::string
-JsonString(const std::string & text)
+using Json = nlohmann::ordered_json;
+
+Json
+ParametersJson(const MeshingRun & run)
 {
-  std::string quoted = "\"";
-  for (const char character : text)
-  {
-    switch (character)
-    {
-      case '"':
-        quoted += "\\\"";
-        break;
-      case '\\':
-        quoted += "\\\\";
-        break;
-      case '\n':
-        quoted += "\\n";
-        break;
-      case '\t':
-        quoted += "\\t";
-        break;
-      default:
-        if (static_cast<unsigned char>(character) < 0x20)
-        {
-          char escaped[8];
-          std::snprintf(escaped, sizeof(escaped), "\\u%04x", static_cast<unsigned int>(character));
-          quoted += escaped;
-        }
-        else
-        {
-          quoted += character;
-        }
-    }
-  }
-  return quoted + "\"";
+  return { { "delta_mm", run.surfaceSamplingDistance },
+           { "radius_edge_bound", run.radiusEdgeBound },
+           { "min_dihedral_angle_deg", run.minimumDihedralAngle } };
 }
 
-/** JSON has no infinity or NaN: a distance to an empty surface, say, becomes null. */
-std::string
-JsonNumber(double value)
+Json
+QualityJson(const QualityReport & report)
 {
-  if (!std::isfinite(value))
-  {
-    return "null";
-  }
-  std::ostringstream text;
-  text.imbue(std::locale::classic());
-  text << std::setprecision(10) << value;
-  return text.str();
+  return { { "min_dihedral_angle_deg", report.minimumDihedralAngle },
+           { "max_dihedral_angle_deg", report.maximumDihedralAngle },
+           { "max_radius_edge_ratio", report.maximumRadiusEdgeRatio },
+           { "min_boundary_planar_angle_deg", report.minimumBoundaryPlanarAngle },
+           { "inverted_tetrahedra", report.invertedTetrahedra },
+           { "manifold", report.IsManifold() },
+           { "non_manifold_edges", report.nonManifoldEdges },
+           { "non_manifold_vertices", report.nonManifoldVertices } };
 }
 
-std::string
-JsonNumber(std::size_t value)
-{
-  return std::to_string(value);
-}
-
-std::string
-JsonNumber(int value)
-{
-  return std::to_string(value);
-}
-
-template <typename TValue>
-std::string
-JsonArray(const std::vector<TValue> & values)
-{
-  std::string array = "[";
-  for (std::size_t i = 0; i < values.size(); ++i)
-  {
-    array += (i == 0 ? "" : ", ") + JsonNumber(values[i]);
-  }
-  return array + "]";
-}
-
-/** Builds one JSON object member by member; nested objects are built first and added as values. */
-class JsonObject
-{
-public:
-  explicit JsonObject(int depth)
-    : m_Depth(depth)
-  {}
-
-  JsonObject &
-  Add(const std::string & name, const std::string & jsonValue)
-  {
-    m_Text += (m_Text.empty() ? "{\n" : ",\n") + Indent(m_Depth + 1) + JsonString(name) + ": " + jsonValue;
-    return *this;
-  }
-
-  std::string
-  Text() const
-  {
-    return m_Text.empty() ? "{}" : m_Text + "\n" + Indent(m_Depth) + "}";
-  }
-
-private:
-  static std::string
-  Indent(int depth)
-  {
-    return std::string(2 * static_cast<std::size_t>(depth), ' ');
-  }
-
-  int         m_Depth;
-  std::string m_Text;
-};
-
-std::string
-ParametersJson(const MeshingRun & run, int depth)
-{
-  return JsonObject(depth)
-    .Add("delta_mm", JsonNumber(run.surfaceSamplingDistance))
-    .Add("radius_edge_bound", JsonNumber(run.radiusEdgeBound))
-    .Add("min_dihedral_angle_deg", JsonNumber(run.minimumDihedralAngle))
-    .Text();
-}
-
-std::string
-QualityJson(const QualityReport & report, int depth)
-{
-  return JsonObject(depth)
-    .Add("min_dihedral_angle_deg", JsonNumber(report.minimumDihedralAngle))
-    .Add("max_dihedral_angle_deg", JsonNumber(report.maximumDihedralAngle))
-    .Add("max_radius_edge_ratio", JsonNumber(report.maximumRadiusEdgeRatio))
-    .Add("min_boundary_planar_angle_deg", JsonNumber(report.minimumBoundaryPlanarAngle))
-    .Add("inverted_tetrahedra", JsonNumber(report.invertedTetrahedra))
-    .Add("manifold", report.IsManifold() ? "true" : "false")
-    .Add("non_manifold_edges", JsonNumber(report.nonManifoldEdges))
-    .Add("non_manifold_vertices", JsonNumber(report.nonManifoldVertices))
-    .Text();
-}
-
-std::string
-DistanceJson(const QualityReport & report, int depth)
+Json
+DistanceJson(const QualityReport & report)
 {
   const DistanceStatistics & distance = report.distanceToMarchingCubes;
-  return JsonObject(depth)
-    .Add("sample_spacing_mm", JsonNumber(report.distanceSampleSpacing))
-    .Add("samples", JsonNumber(distance.count))
-    .Add("mean_mm", JsonNumber(distance.mean))
-    .Add("percentile95_mm", JsonNumber(distance.percentile95))
-    .Add("max_mm", JsonNumber(distance.maximum))
-    .Text();
+  return { { "sample_spacing_mm", report.distanceSampleSpacing },
+           { "samples", distance.count },
+           { "mean_mm", distance.mean },
+           { "percentile95_mm", distance.percentile95 },
+           { "max_mm", distance.maximum } };
 }
 
-/** The genus of a surface that is not a closed manifold means nothing: it is written as null. */
-std::string
-LabelJson(const LabelQuality & quality, int depth)
+/** The genus of a surface that is not a closed manifold means nothing, and a lost label has neither genus nor
+ * angle: they are written as null. */
+Json
+LabelJson(const LabelQuality & quality)
 {
   const SurfaceTopology & boundary = quality.boundary;
-  return JsonObject(depth)
-    .Add("label", JsonNumber(quality.label))
-    .Add("vertices", JsonNumber(quality.vertices))
-    .Add("tetrahedra", JsonNumber(quality.tetrahedra))
-    .Add("boundary_triangles", JsonNumber(boundary.numberOfTriangles))
-    .Add("mesh_volume_mm3", JsonNumber(quality.meshVolume))
-    .Add("segmented_volume_mm3", JsonNumber(quality.segmentedVolume))
-    .Add("boundary_components", JsonNumber(boundary.numberOfComponents))
-    .Add("boundary_genus", boundary.IsClosedManifold() ? JsonNumber(boundary.totalGenus) : "null")
-    .Add("boundary_component_genera", boundary.IsClosedManifold() ? JsonArray(boundary.componentGenera) : "null")
-    .Add("non_manifold_edges", JsonNumber(boundary.nonManifoldEdges))
-    .Add("non_manifold_vertices", JsonNumber(boundary.nonManifoldVertices))
-    .Add("min_planar_angle_deg", JsonNumber(boundary.minimumPlanarAngle))
-    .Text();
-}
-
-std::string
-LabelsJson(const std::vector<LabelQuality> & labels, int depth)
-{
-  std::string array = "[";
-  for (std::size_t i = 0; i < labels.size(); ++i)
+  const bool              lost = quality.IsLost();
+  const bool              closed = boundary.IsClosedManifold() && !lost;
+  Json                    json{ { "label", quality.label },
+             { "vertices", quality.vertices },
+             { "tetrahedra", quality.tetrahedra },
+             { "boundary_triangles", boundary.numberOfTriangles },
+             { "mesh_volume_mm3", quality.meshVolume },
+             { "segmented_volume_mm3", quality.segmentedVolume },
+             { "boundary_components", boundary.numberOfComponents },
+             { "boundary_genus", closed ? Json(boundary.totalGenus) : Json() },
+             { "boundary_component_genera", closed ? Json(boundary.componentGenera) : Json() },
+             { "non_manifold_edges", boundary.nonManifoldEdges },
+             { "non_manifold_vertices", boundary.nonManifoldVertices },
+             { "min_planar_angle_deg", lost ? Json() : Json(boundary.minimumPlanarAngle) },
+             { "lost", lost } };
+  if (lost)
   {
-    array += (i == 0 ? "\n" : ",\n") + std::string(2 * static_cast<std::size_t>(depth + 1), ' ') +
-             LabelJson(labels[i], depth + 1);
+    json["lost_components"] = quality.lostComponents;
+    json["lost_volume_mm3"] = quality.segmentedVolume;
   }
-  return labels.empty() ? "[]" : array + "\n" + std::string(2 * static_cast<std::size_t>(depth), ' ') + "]";
+  return json;
 }
 
-std::string
-HistogramJson(const AngleHistogram & histogram, int depth)
+Json
+ReportJson(const QualityReport & report)
 {
-  return JsonObject(depth)
-    .Add("bin_width_deg", JsonNumber(histogram.binWidth))
-    .Add("counts", JsonArray(histogram.counts))
-    .Text();
-}
-
-std::string
-PhaseSecondsJson(const MeshingRun & run, int depth)
-{
-  JsonObject phases(depth);
+  const MeshingRun & run = report.run;
+  Json               labels = Json::array();
+  for (const LabelQuality & quality : report.labels)
+  {
+    labels.push_back(LabelJson(quality));
+  }
+  Json phaseSeconds = Json::object();
   for (const auto & phaseAndSeconds : run.phaseSeconds)
   {
-    phases.Add(phaseAndSeconds.first, JsonNumber(phaseAndSeconds.second));
+    phaseSeconds[phaseAndSeconds.first] = phaseAndSeconds.second;
   }
-  return phases.Text();
+  const AngleHistogram & histogram = report.minimumDihedralAngleHistogram;
+  return { { "input", run.inputFile },
+           { "output", run.outputFile },
+           { "parameters", ParametersJson(run) },
+           { "vertices", report.vertices },
+           { "tetrahedra", report.tetrahedra },
+           { "boundary_triangles", report.boundaryTriangles },
+           { "quality", QualityJson(report) },
+           { "mesh_volume_mm3", report.meshVolume },
+           { "segmented_volume_mm3", report.segmentedVolume },
+           { "distance_to_marching_cubes", DistanceJson(report) },
+           { "labels", labels },
+           { "min_dihedral_angle_histogram",
+             { { "bin_width_deg", histogram.binWidth }, { "counts", histogram.counts } } },
+           { "time_seconds", phaseSeconds },
+           { "peak_memory_bytes", run.peakResidentMemoryBytes } };
 }
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -425,6 +331,29 @@ PhasesText(const MeshingRun & run)
   return text;
 }
 
+/** "2 components, 1.0 mm^3": what the segmentation had of a lost label. */
+std::string
+LostText(const LabelQuality & quality)
+{
+  return std::to_string(quality.lostComponents) + (quality.lostComponents == 1 ? " component, " : " components, ") +
+         Fixed(quality.segmentedVolume, 1) + " mm^3";
+}
+
+/** "label 3 (1 component, 1.0 mm^3)" for each lost label; empty if none is lost. */
+std::string
+LostLabelsText(const std::vector<LabelQuality> & labels)
+{
+  std::string text;
+  for (const LabelQuality & quality : labels)
+  {
+    if (quality.IsLost())
+    {
+      text += (text.empty() ? "label " : ", label ") + std::to_string(quality.label) + " (" + LostText(quality) + ")";
+    }
+  }
+  return text;
+}
+
 void
 PrintSummary(const QualityReport & report, std::ostream & out)
 {
@@ -452,6 +381,11 @@ PrintSummary(const QualityReport & report, std::ostream & out)
            "volume mesh / segmented",
            Fixed(report.meshVolume, 1) + " / " + Fixed(report.segmentedVolume, 1) + " mm^3 (" +
              SignedPercent(report.meshVolume, report.segmentedVolume) + ")");
+  const std::string lostLabels = LostLabelsText(report.labels);
+  if (!lostLabels.empty())
+  {
+    PrintRow(out, "LOST tissues", lostLabels);
+  }
   const DistanceStatistics & distance = report.distanceToMarchingCubes;
   PrintRow(out,
            "distance to marching cubes",
@@ -476,24 +410,28 @@ PrintLabelTable(const std::vector<LabelQuality> & labels, std::ostream & out)
   out << '\n';
   for (const LabelQuality & quality : labels)
   {
-    const SurfaceTopology &        boundary = quality.boundary;
-    const std::vector<std::string> cells{ std::to_string(quality.label),
-                                          std::to_string(quality.vertices),
-                                          std::to_string(quality.tetrahedra),
-                                          std::to_string(boundary.numberOfTriangles),
-                                          Fixed(quality.meshVolume, 1),
-                                          Fixed(quality.segmentedVolume, 1),
-                                          std::to_string(boundary.numberOfComponents),
-                                          boundary.IsClosedManifold() ? std::to_string(boundary.totalGenus) : "-",
-                                          std::to_string(boundary.nonManifoldEdges) + "/" +
-                                            std::to_string(boundary.nonManifoldVertices),
-                                          Fixed(boundary.minimumPlanarAngle, 2) };
+    const SurfaceTopology & boundary = quality.boundary;
+    const bool              lost = quality.IsLost();
+    // A lost label's boundary is empty: it has no components, genus or angle to show.
+    const auto                     boundaryCell = [lost](const std::string & text) { return lost ? "-" : text; };
+    const std::vector<std::string> cells{
+      std::to_string(quality.label),
+      std::to_string(quality.vertices),
+      std::to_string(quality.tetrahedra),
+      std::to_string(boundary.numberOfTriangles),
+      Fixed(quality.meshVolume, 1),
+      Fixed(quality.segmentedVolume, 1),
+      boundaryCell(std::to_string(boundary.numberOfComponents)),
+      boundaryCell(boundary.IsClosedManifold() ? std::to_string(boundary.totalGenus) : "-"),
+      boundaryCell(std::to_string(boundary.nonManifoldEdges) + "/" + std::to_string(boundary.nonManifoldVertices)),
+      boundaryCell(Fixed(boundary.minimumPlanarAngle, 2))
+    };
     out << "  ";
     for (std::size_t i = 0; i < cells.size(); ++i)
     {
       out << std::right << std::setw(columns[i].second) << cells[i];
     }
-    out << '\n';
+    out << (lost ? "  lost: " + LostText(quality) : "") << '\n';
   }
 }
 
@@ -525,24 +463,8 @@ PrintQualityReport(const QualityReport & report, std::ostream & out)
 void
 WriteQualityReportJson(const QualityReport & report, std::ostream & out)
 {
-  const MeshingRun & run = report.run;
-  out << JsonObject(0)
-           .Add("input", JsonString(run.inputFile))
-           .Add("output", JsonString(run.outputFile))
-           .Add("parameters", ParametersJson(run, 1))
-           .Add("vertices", JsonNumber(report.vertices))
-           .Add("tetrahedra", JsonNumber(report.tetrahedra))
-           .Add("boundary_triangles", JsonNumber(report.boundaryTriangles))
-           .Add("quality", QualityJson(report, 1))
-           .Add("mesh_volume_mm3", JsonNumber(report.meshVolume))
-           .Add("segmented_volume_mm3", JsonNumber(report.segmentedVolume))
-           .Add("distance_to_marching_cubes", DistanceJson(report, 1))
-           .Add("labels", LabelsJson(report.labels, 1))
-           .Add("min_dihedral_angle_histogram", HistogramJson(report.minimumDihedralAngleHistogram, 1))
-           .Add("time_seconds", PhaseSecondsJson(run, 1))
-           .Add("peak_memory_bytes", JsonNumber(run.peakResidentMemoryBytes))
-           .Text()
-      << '\n';
+  // File names need not be UTF-8 (a Latin-1 directory, say): bytes JSON cannot hold become U+FFFD, not an error.
+  out << ReportJson(report).dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
 }
 
 void

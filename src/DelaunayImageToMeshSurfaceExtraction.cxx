@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "DelaunayImageToMeshSurfaceExtraction.h"
+#include "DelaunayImageToMeshVtkLabelImage.h"
 
 #include <vtkCellArray.h>
 #include <vtkDiscreteFlyingEdges3D.h>
@@ -30,38 +31,6 @@
 
 namespace delaunay_refinement
 {
-namespace
-{
-
-/** The volume in index space (VTK 9.1's flying edges ignores image direction), padded by one background
- * voxel on every side. */
-void
-FillPaddedImage(const LabelVolume & volume, vtkImageData * image)
-{
-  const int padded[3] = { static_cast<int>(volume.size[0]) + 2,
-                          static_cast<int>(volume.size[1]) + 2,
-                          static_cast<int>(volume.size[2]) + 2 };
-  image->SetDimensions(padded[0], padded[1], padded[2]);
-  image->SetOrigin(-1.0, -1.0, -1.0);
-  image->SetSpacing(1.0, 1.0, 1.0);
-  image->AllocateScalars(VTK_INT, 1);
-  auto * scalars = static_cast<int *>(image->GetScalarPointer());
-  std::fill(scalars, scalars + static_cast<std::size_t>(padded[0]) * padded[1] * padded[2], 0);
-  for (std::size_t k = 0; k < volume.size[2]; ++k)
-  {
-    for (std::size_t j = 0; j < volume.size[1]; ++j)
-    {
-      for (std::size_t i = 0; i < volume.size[0]; ++i)
-      {
-        const std::size_t source = i + volume.size[0] * (j + volume.size[1] * k);
-        const std::size_t target = (i + 1) + padded[0] * ((j + 1) + padded[1] * (k + 1));
-        scalars[target] = volume.labels[source];
-      }
-    }
-  }
-}
-
-} // namespace
 
 TriangleSurface
 ExtractLabelSurfaces(const LabelVolume & volume)

@@ -6,8 +6,10 @@ endif()
 
 # The quality report on hand-made meshes whose answers are known.
 add_executable(DelaunayImageToMeshCommandLineReportGTests DelaunayImageToMeshCommandLineQualityReportGTest.cxx)
+# They read the JSON report back with nlohmann-json, the library that writes it.
+find_package(nlohmann_json 3.10 REQUIRED)
 target_link_libraries(DelaunayImageToMeshCommandLineReportGTests
-  PRIVATE DelaunayImageToMeshIO GTest::gtest GTest::gtest_main)
+  PRIVATE DelaunayImageToMeshIO GTest::gtest GTest::gtest_main nlohmann_json::nlohmann_json)
 gtest_discover_tests(DelaunayImageToMeshCommandLineReportGTests DISCOVERY_TIMEOUT 120 PROPERTIES TIMEOUT 600)
 
 # The program is built by examples/, which only the plain-CMake build adds (the remote-module path does not).
@@ -43,10 +45,21 @@ add_test(NAME DelaunayImageToMeshCommandLine.Inputs
   COMMAND ${DelaunayImageToMesh_TEST_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/DelaunayImageToMeshCommandLineInputs.py
     ${command_line_program} ${command_line_images} ${command_line_output}/inputs)
 
-# Bad arguments, unreadable files and meshing failures: exit code 2 and a one-line message; --help, --version.
+# Bad arguments (also in --config files), unreadable files and meshing failures: exit code 2 and a one-line message;
+# --help, -h, --version, -V.
 add_test(NAME DelaunayImageToMeshCommandLine.Errors
   COMMAND ${DelaunayImageToMesh_TEST_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/DelaunayImageToMeshCommandLineErrors.py
     ${command_line_program} ${command_line_images} ${command_line_output}/errors)
+
+# The short options and --config files (TOML, INI) give the meshes of the long options.
+add_test(NAME DelaunayImageToMeshCommandLine.Config
+  COMMAND ${DelaunayImageToMesh_TEST_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/DelaunayImageToMeshCommandLineConfig.py
+    ${command_line_program} ${command_line_images} ${command_line_output}/config)
+
+# A tissue the mesh loses (two voxels at the default delta) reads as lost in the table and the JSON report.
+add_test(NAME DelaunayImageToMeshCommandLine.LostTissue
+  COMMAND ${DelaunayImageToMesh_TEST_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/DelaunayImageToMeshCommandLineLostTissue.py
+    ${command_line_program} ${command_line_images} ${command_line_output}/lost-tissue)
 
 set_tests_properties(
   DelaunayImageToMeshCommandLine.OutputFormat.vtu
@@ -55,6 +68,8 @@ set_tests_properties(
   DelaunayImageToMeshCommandLine.OutputFormat.mesh
   DelaunayImageToMeshCommandLine.Inputs
   DelaunayImageToMeshCommandLine.Errors
+  DelaunayImageToMeshCommandLine.Config
+  DelaunayImageToMeshCommandLine.LostTissue
   PROPERTIES FIXTURES_REQUIRED CommandLineImages TIMEOUT 600 ENVIRONMENT PYTHONDONTWRITEBYTECODE=1)
 
 # The picture scripts of examples/ still draw what they claim.

@@ -16,7 +16,8 @@
 #
 # ==========================================================================
 """Every way to call the program wrongly must end with exit code 2, nothing on stdout, no output file, and one
-line on stderr, "delaunay-image-to-mesh: error: ...", naming the problem. --help and --version exit with 0.
+line on stderr, "delaunay-image-to-mesh: error: ...", naming the problem (and the option), also when the mistake is
+in a --config file. --help and -h, --version and -V exit with 0.
 
 Usage: DelaunayImageToMeshCommandLineErrors.py PROGRAM IMAGE_DIRECTORY OUTPUT_DIRECTORY"""
 
@@ -27,7 +28,8 @@ import sys
 from DelaunayImageToMeshCommandLineTesting import PROGRAM_NAME, check, describe, run
 
 OPTIONS = ["--delta", "--radius-edge", "--min-dihedral", "--labels", "--merge-labels", "--keep-diagonal-voxels", "--iso",
-           "--max-vertices", "--report", "--quiet", "--version", "--help"]
+           "--max-vertices", "--report", "--quiet", "--version", "--help", "--config", "-d,", "-q,", "-V,", "-h,"]
+GROUPS = ["Meshing:", "Tissues:", "Output:"]
 
 
 def error_cases(image, output):
@@ -38,32 +40,57 @@ def error_cases(image, output):
     with open(not_an_image, "w", encoding="utf-8") as file:
         file.write("this is text, not an image\n")
     os.makedirs(empty_directory, exist_ok=True)
+    bad_delta = write_config(output, "bad-delta.toml", "delta = -1\n")
+    misspelt = write_config(output, "misspelt.toml", "delt = 2\n")
+    # The ranges are the refinement core's (ValidateParameters): its message follows the option's name.
     return [
-        ([image, mesh, "--frobnicate"], "unknown option '--frobnicate'"),
-        ([image, mesh, "--delta"], "option --delta needs a value"),
-        ([image, mesh, "--delta", "-1"], "--delta must be a distance > 0 in mm, got '-1'"),
-        ([image, mesh, "--delta", "two"], "--delta needs a number, got 'two'"),
-        ([image, mesh, "--radius-edge", "0.5"], "--radius-edge must be >= 1, got '0.5'"),
-        ([image, mesh, "--min-dihedral", "45"], "--min-dihedral must be in [0, 30] degrees, got '45'"),
-        ([image, mesh, "--labels", "1,x"], "--labels needs 'all' or comma-separated integer labels"),
-        ([image, mesh, "--labels", "0,1"], "--labels cannot select label 0"),
-        ([image, mesh, "--max-vertices", "-5"], "--max-vertices must be a whole number >= 8, got '-5'"),
-        ([image, mesh, "--iso", "1", "--labels", "1"], "--iso cannot be combined with --labels or --merge-labels"),
-        ([image, mesh, "--iso", "1", "--merge-labels"], "--iso cannot be combined with --labels or --merge-labels"),
-        ([image, mesh, "--quiet=yes"], "option --quiet takes no value"),
-        ([image], "missing OUTPUT"),
-        ([image, mesh, "surplus"], "unexpected argument 'surplus'"),
+        ([image, mesh, "--frobnicate"], "The following argument was not expected: --frobnicate"),
+        ([image, mesh, "--delta"], "--delta: 1 required MM missing"),
+        ([image, mesh, "--delta", "-1"], "--delta: Invalid parameter surfaceSamplingDistance (delta) = -1: the valid "
+         "range is (0, "),
+        ([image, mesh, "-d", "0"], "--delta: Invalid parameter surfaceSamplingDistance (delta) = 0: the valid range "
+         "is (0, "),
+        ([image, mesh, "--delta", "two"], "Could not convert: --delta = two"),
+        ([image, mesh, "--radius-edge", "0.5"], "--radius-edge: Invalid parameter radiusEdgeBound (rho) = 0.5: the "
+         "valid range is [1, +inf)"),
+        ([image, mesh, "--min-dihedral", "45"], "--min-dihedral: Invalid parameter minimumDihedralAngle (sigma, "
+         "degrees) = 45: the valid range is [0, 30]"),
+        ([image, mesh, "--labels", "1,x"], "--labels: needs 'all' or comma-separated integer labels such as 1,2 (0, "
+         "the background, cannot be selected), got 'x'"),
+        ([image, mesh, "--labels", "0,1"], "--labels: needs 'all' or comma-separated integer labels such as 1,2 (0, "
+         "the background, cannot be selected), got '0'"),
+        ([image, mesh, "--max-vertices", "-5"], "--max-vertices: needs a whole number, got '-5'"),
+        ([image, mesh, "--max-vertices", "5"], "--max-vertices: Invalid parameter maximumNumberOfVertices = 5: the "
+         "valid range is [8, "),
+        ([image, mesh, "--iso", "nan"], "--iso: needs a finite number, got 'nan'"),
+        ([image, mesh, "--iso", "1", "--labels", "1"], "--labels excludes --iso"),
+        ([image, mesh, "--iso", "1", "--merge-labels"], "--merge-labels excludes --iso"),
+        ([image, mesh, "--quiet=yes"], "quiet was given a disallowed flag override"),
+        ([image], "OUTPUT is required"),
+        ([image, mesh, "surplus"], "The following argument was not expected: surplus"),
+        ([image, mesh, "--config", bad_delta], "--delta: Invalid parameter surfaceSamplingDistance (delta) = -1"),
+        ([image, mesh, "--config", misspelt], "INI was not able to parse delt"),
+        ([image, mesh, "--config", os.path.join(output, "missing.toml")], os.path.join(output, "missing.toml") +
+         " was not readable"),
         ([os.path.join(output, "missing.nii.gz"), mesh], "cannot read input '" + os.path.join(output, "missing.nii.gz")
          + "': No such file or directory"),
         ([not_an_image, mesh], "cannot read input '" + not_an_image + "': not an image format ITK can read"),
         ([empty_directory, mesh], "the directory holds no DICOM series"),
-        ([image, os.path.join(output, "mesh.stl")], "unsupported output extension '.stl'"),
-        ([image, os.path.join(output, "no-such-directory", "mesh.vtu")], "directory '" +
+        ([image, os.path.join(output, "mesh.stl")], "OUTPUT: unsupported output extension '.stl'"),
+        ([image, os.path.join(output, "no-such-directory", "mesh.vtu")], "OUTPUT: directory '" +
          os.path.join(output, "no-such-directory") + "' does not exist"),
-        ([image, mesh, "--report", os.path.join(output, "no-such-directory", "r.json")], "cannot write the report"),
+        ([image, mesh, "--report", os.path.join(output, "no-such-directory", "r.json")], "--report: directory '" +
+         os.path.join(output, "no-such-directory") + "' does not exist"),
         ([image, mesh, "--labels", "99"], "meshing failed: No voxel of the input is part of the object"),
         ([image, mesh, "--delta", "1", "--max-vertices", "20"], "meshing failed"),
     ]
+
+
+def write_config(directory, name, text):
+    path = os.path.join(directory, name)
+    with open(path, "w", encoding="utf-8") as file:
+        file.write(text)
+    return path
 
 
 def check_error(program, arguments, expected, mesh):
@@ -84,11 +111,17 @@ def check_help_and_version(program):
     check(help_result.returncode == 0 and help_result.stderr == "", f"--help: {describe(help_result)}")
     for option in OPTIONS:
         check(option in help_result.stdout, f"--help does not mention {option}: {describe(help_result)}")
+    for group in GROUPS:
+        check(f"\n{group}\n" in help_result.stdout, f"--help has no option group {group}: {describe(help_result)}")
     check("4 x the largest voxel spacing" in help_result.stdout, "--help does not give the default --delta")
+    short_help = run(program, ["-h"])
+    check(short_help.returncode == 0 and short_help.stdout == help_result.stdout, f"-h: {describe(short_help)}")
     version = run(program, ["--version"])
     check(version.returncode == 0 and version.stderr == "", f"--version: {describe(version)}")
     check(re.fullmatch(PROGRAM_NAME + r" \d+\.\d+\.\d+ \(ITK \d+\.\d+\.\d+\)\n", version.stdout),
           f"--version: {describe(version)}")
+    short_version = run(program, ["-V"])
+    check(short_version.returncode == 0 and short_version.stdout == version.stdout, f"-V: {describe(short_version)}")
 
 
 def main(program, image_directory, output):
@@ -99,7 +132,7 @@ def main(program, image_directory, output):
     for arguments, expected in cases:
         check_error(program, arguments, expected, mesh)
     check_help_and_version(program)
-    print(f"{len(cases)} mistakes rejected with exit code 2 and one line each; --help and --version exit with 0")
+    print(f"{len(cases)} mistakes rejected with exit code 2 and one line each; -h, --help, -V and --version exit with 0")
 
 
 if __name__ == "__main__":

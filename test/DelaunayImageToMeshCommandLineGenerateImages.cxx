@@ -22,6 +22,8 @@
 //   anisotropic, rotated, shifted grid, so that the files only agree if spacing, origin and direction are read;
 // - labels-dicom/: the same balls as a DICOM series (one file per slice), on an unrotated grid;
 // - gray.mha: 100 minus the distance to the image centre (mm), so that --iso 92 is a ball of radius 8 mm.
+// - speck.nii.gz: the balls and a third tissue, label 3, of two face-adjacent voxels (3.75 mm³) away from them:
+//   a tissue far thinner than the default δ (6 mm), which the mesh loses.
 
 #include "itkGDCMImageIO.h"
 #include "itkImage.h"
@@ -100,6 +102,15 @@ MakeLabelImage(bool rotated)
     image->TransformIndexToPhysicalPoint(it.GetIndex(), point);
     it.Set(point.EuclideanDistanceTo(rightCentre) <= 5.0 ? 2 : point.EuclideanDistanceTo(leftCentre) <= 7.0 ? 1 : 0);
   }
+  return image;
+}
+
+LabelImageType::Pointer
+MakeSpeckImage()
+{
+  auto image = MakeLabelImage(true);
+  image->SetPixel({ { 3, 3, 3 } }, 3);
+  image->SetPixel({ { 4, 3, 3 } }, 3);
   return image;
 }
 
@@ -215,6 +226,7 @@ main(int argc, char * argv[])
     }
     WriteDicomSeries(MakeLabelImage(false), directory / "labels-dicom");
     WriteImage(MakeGrayImage().GetPointer(), (directory / "gray.mha").string());
+    WriteImage(MakeSpeckImage().GetPointer(), (directory / "speck.nii.gz").string());
   }
   catch (const std::exception & error)
   {

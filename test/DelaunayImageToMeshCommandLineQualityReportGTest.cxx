@@ -23,6 +23,7 @@
 #include "DelaunayImageToMeshQualityReport.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -155,12 +156,13 @@ EntryOf(const QualityReport & report, Label label)
   return *entry;
 }
 
-std::string
+/** The report as written, read back in its order. */
+nlohmann::ordered_json
 JsonOf(const QualityReport & report)
 {
   std::ostringstream json;
   WriteQualityReportJson(report, json);
-  return json.str();
+  return nlohmann::ordered_json::parse(json.str());
 }
 
 TEST(QualityReport, SingleLabelCubeCountsAndShape)
@@ -251,16 +253,61 @@ TEST(QualityReport, TwoLabelsMeetAtAnInterface)
   EXPECT_TRUE(report.IsManifold());
 }
 
-TEST(QualityReport, LabelOnlyInTheSegmentationIsListed)
+TEST(QualityReport, LabelOnlyInTheSegmentationIsLost)
 {
-  TetrahedralMesh mesh = KuhnCube(1);
+  TetrahedralMesh mesh = KuhnCube(2);
   AddBoundaryTriangles(mesh);
-  // Label 3 lost by the mesher (too small, say) must show up with its voxels and no tetrahedron.
-  const QualityReport report = ComputeQualityReport(mesh, CubeSegmentation(3));
-  ASSERT_EQ(report.labels.size(), 2u);
-  EXPECT_EQ(EntryOf(report, 3).tetrahedra, 0u);
-  EXPECT_NEAR(EntryOf(report, 3).segmentedVolume, 0.25, Tolerance);
-  EXPECT_NEAR(report.segmentedVolume, 1.0, Tolerance);
+  // Label 3, which the mesh lacks (too thin for δ, say), has two pieces outside the cube: voxels (0, 0, 0) and
+  // (0, 0, 1), which share a face, and voxel (3, 3, 3); 3 voxels of 0.125 mm³. Label 2, next in value, must
+  // not be counted with it.
+  LabelVolume segmentation = CubeSegmentation(2);
+  for (const std::size_t voxel : { 0, 16, 63 })
+  {
+    segmentation.labels[voxel] = 3;
+  }
+  const QualityReport report = ComputeQualityReport(mesh, segmentation);
+  ASSERT_EQ(report.labels.size(), 3u);
+  EXPECT_FALSE(EntryOf(report, 2).IsLost());
+  EXPECT_EQ(EntryOf(report, 2).lostComponents, 0u);
+  const LabelQuality & lost = EntryOf(report, 3);
+  EXPECT_TRUE(lost.IsLost());
+  EXPECT_EQ(lost.tetrahedra, 0u);
+  EXPECT_EQ(lost.lostComponents, 2u);
+  EXPECT_NEAR(lost.segmentedVolume, 0.375, Tolerance);
+  EXPECT_NEAR(report.segmentedVolume, 1.375, Tolerance);
+
+  const nlohmann::ordered_json   json = JsonOf(report);
+  const nlohmann::ordered_json & meshed = json["labels"][1];
+  EXPECT_EQ(meshed["lost"], false) << meshed;
+  EXPECT_FALSE(meshed.contains("lost_components")) << meshed;
+  const nlohmann::ordered_json & entry = json["labels"][2];
+  EXPECT_EQ(entry["label"], 3) << entry;
+  EXPECT_EQ(entry["lost"], true) << entry;
+  EXPECT_EQ(entry["lost_components"], 2) << entry;
+  EXPECT_NEAR(entry["lost_volume_mm3"].get<double>(), 0.375, Tolerance) << entry;
+  // An empty boundary has no angle and no genus.
+  EXPECT_TRUE(entry["min_planar_angle_deg"].is_null()) << entry;
+  EXPECT_TRUE(entry["boundary_genus"].is_null()) << entry;
+  EXPECT_TRUE(entry["boundary_component_genera"].is_null()) << entry;
+
+  std::ostringstream table;
+  PrintQualityReport(report, table);
+  EXPECT_NE(table.str().find("LOST tissues                label 3 (2 components, 0.4 mm^3)\n"), std::string::npos)
+    << table.str();
+  // The row: no components, genus, non-manifold counts or angle, but what was lost.
+  EXPECT_NE(table.str().find("\n        3         0           0          0         0.0         0.4           -      -"
+                             "               -          -  lost: 2 components, 0.4 mm^3\n"),
+            std::string::npos)
+    << table.str();
+  EXPECT_EQ(table.str().find("180.00"), std::string::npos) << table.str();
+}
+
+TEST(QualityReport, NothingLostNoLostRow)
+{
+  std::ostringstream table;
+  PrintQualityReport(CubeReport(2), table);
+  EXPECT_EQ(table.str().find("lost"), std::string::npos) << table.str();
+  EXPECT_EQ(table.str().find("LOST"), std::string::npos) << table.str();
 }
 
 TEST(QualityReport, InconsistentMeshIsRejected)
@@ -280,31 +327,83 @@ TEST(QualityReport, JsonHoldsTheNumbersAndTheRun)
   report.run.surfaceSamplingDistance = 0.5;
   report.run.phaseSeconds = { { "read", 0.25 }, { "mesh", 1.5 } };
   report.run.peakResidentMemoryBytes = 1048576;
-  const std::string json = JsonOf(report);
-  EXPECT_NE(json.find("\"input\": \"cube.nii.gz\""), std::string::npos) << json;
-  EXPECT_NE(json.find("\"delta_mm\": 0.5"), std::string::npos) << json;
-  EXPECT_NE(json.find("\"tetrahedra\": 6,"), std::string::npos) << json;
-  EXPECT_NE(json.find("\"manifold\": true"), std::string::npos) << json;
-  EXPECT_NE(json.find("\"boundary_genus\": 0"), std::string::npos) << json;
-  EXPECT_NE(json.find("\"time_seconds\": {\n    \"read\": 0.25,\n    \"mesh\": 1.5\n  }"), std::string::npos) << json;
-  EXPECT_NE(json.find("\"peak_memory_bytes\": 1048576"), std::string::npos) << json;
-  const std::string histogramStart =
-    "\"counts\": [0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 6, 0";
-  EXPECT_NE(json.find(histogramStart), std::string::npos) << json;
+  const nlohmann::ordered_json json = JsonOf(report);
+  EXPECT_EQ(json["input"], "cube.nii.gz") << json;
+  EXPECT_EQ(json["parameters"]["delta_mm"], 0.5) << json;
+  EXPECT_EQ(json["tetrahedra"], 6) << json;
+  EXPECT_EQ(json["quality"]["manifold"], true) << json;
+  ASSERT_EQ(json["labels"].size(), 1u) << json;
+  EXPECT_EQ(json["labels"][0]["boundary_genus"], 0) << json;
+  // The phases keep the order in which they ran.
+  EXPECT_EQ(json["time_seconds"].dump(), R"({"read":0.25,"mesh":1.5})") << json;
+  EXPECT_EQ(json["peak_memory_bytes"], 1048576) << json;
+  std::vector<std::size_t> counts(45, 0);
+  counts[22] = 6;
+  EXPECT_EQ(json["min_dihedral_angle_histogram"]["counts"], counts) << json;
+}
+
+TEST(QualityReport, JsonReadsBackEveryMeasure)
+{
+  QualityReport report = CubeReport(2);
+  report.run = { "in.nrrd", "out.msh", 0.75, 1.5, 10.0, { { "mesh", 2.5 } }, 4096 };
+  const nlohmann::ordered_json json = JsonOf(report);
+  EXPECT_EQ(json["output"], "out.msh");
+  EXPECT_EQ(json["parameters"]["radius_edge_bound"], 1.5);
+  EXPECT_EQ(json["parameters"]["min_dihedral_angle_deg"], 10.0);
+  EXPECT_EQ(json["vertices"], report.vertices);
+  EXPECT_EQ(json["boundary_triangles"], report.boundaryTriangles);
+  // Doubles are written to the last digit: they read back exactly.
+  const nlohmann::ordered_json & quality = json["quality"];
+  EXPECT_EQ(quality["min_dihedral_angle_deg"], report.minimumDihedralAngle);
+  EXPECT_EQ(quality["max_dihedral_angle_deg"], report.maximumDihedralAngle);
+  EXPECT_EQ(quality["max_radius_edge_ratio"], report.maximumRadiusEdgeRatio);
+  EXPECT_EQ(quality["min_boundary_planar_angle_deg"], report.minimumBoundaryPlanarAngle);
+  EXPECT_EQ(quality["inverted_tetrahedra"], 0);
+  EXPECT_EQ(quality["non_manifold_edges"], 0);
+  EXPECT_EQ(quality["non_manifold_vertices"], 0);
+  EXPECT_EQ(json["mesh_volume_mm3"], report.meshVolume);
+  EXPECT_EQ(json["segmented_volume_mm3"], report.segmentedVolume);
+  const nlohmann::ordered_json & distance = json["distance_to_marching_cubes"];
+  EXPECT_EQ(distance["sample_spacing_mm"], 0.5);
+  EXPECT_EQ(distance["samples"], report.distanceToMarchingCubes.count);
+  EXPECT_EQ(distance["mean_mm"], report.distanceToMarchingCubes.mean);
+  EXPECT_EQ(distance["percentile95_mm"], report.distanceToMarchingCubes.percentile95);
+  EXPECT_EQ(distance["max_mm"], report.distanceToMarchingCubes.maximum);
+  EXPECT_EQ(json["min_dihedral_angle_histogram"]["bin_width_deg"], 2.0);
+  ASSERT_EQ(json["labels"].size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i)
+  {
+    const nlohmann::ordered_json & entry = json["labels"][i];
+    const LabelQuality &           half = report.labels[i];
+    EXPECT_EQ(entry["label"], half.label);
+    EXPECT_EQ(entry["vertices"], half.vertices);
+    EXPECT_EQ(entry["tetrahedra"], half.tetrahedra);
+    EXPECT_EQ(entry["boundary_triangles"], half.boundary.numberOfTriangles);
+    EXPECT_EQ(entry["mesh_volume_mm3"], half.meshVolume);
+    EXPECT_EQ(entry["segmented_volume_mm3"], half.segmentedVolume);
+    EXPECT_EQ(entry["boundary_components"], 1);
+    EXPECT_EQ(entry["boundary_genus"], 0);
+    EXPECT_EQ(entry["boundary_component_genera"], std::vector<int>{ 0 });
+    EXPECT_EQ(entry["non_manifold_edges"], 0);
+    EXPECT_EQ(entry["non_manifold_vertices"], 0);
+    EXPECT_EQ(entry["min_planar_angle_deg"], half.boundary.minimumPlanarAngle);
+  }
+  EXPECT_EQ(json["time_seconds"]["mesh"], 2.5);
+  EXPECT_EQ(json["peak_memory_bytes"], 4096);
 }
 
 TEST(QualityReport, JsonEscapesTextAndHasNoInfinity)
 {
   QualityReport report = CubeReport(1);
   report.run.inputFile = "a \"quoted\" C:\\path\n";
+  report.run.outputFile = "caf\xe9.vtu"; // Latin-1, not UTF-8
   report.maximumRadiusEdgeRatio = std::numeric_limits<double>::infinity();
   report.distanceToMarchingCubes.mean = std::numeric_limits<double>::quiet_NaN();
-  const std::string json = JsonOf(report);
-  EXPECT_NE(json.find(R"("input": "a \"quoted\" C:\\path\n")"), std::string::npos) << json;
-  EXPECT_NE(json.find("\"max_radius_edge_ratio\": null"), std::string::npos) << json;
-  EXPECT_NE(json.find("\"mean_mm\": null"), std::string::npos) << json;
-  EXPECT_EQ(json.find("inf"), std::string::npos) << json;
-  EXPECT_EQ(json.find("nan"), std::string::npos) << json;
+  const nlohmann::ordered_json json = JsonOf(report);
+  EXPECT_EQ(json["input"], report.run.inputFile) << json;
+  EXPECT_EQ(json["output"], "caf\xef\xbf\xbd.vtu") << json;
+  EXPECT_TRUE(json["quality"]["max_radius_edge_ratio"].is_null()) << json;
+  EXPECT_TRUE(json["distance_to_marching_cubes"]["mean_mm"].is_null()) << json;
 }
 
 TEST(QualityReport, GenusOfANonManifoldBoundaryIsNotReported)
@@ -317,9 +416,10 @@ TEST(QualityReport, GenusOfANonManifoldBoundaryIsNotReported)
   const QualityReport report = ComputeQualityReport(mesh, CubeSegmentation(1));
   EXPECT_FALSE(report.IsManifold());
   EXPECT_EQ(report.nonManifoldEdges, 3u);
-  const std::string json = JsonOf(report);
-  EXPECT_NE(json.find("\"boundary_genus\": null"), std::string::npos) << json;
-  EXPECT_NE(json.find("\"manifold\": false"), std::string::npos) << json;
+  const nlohmann::ordered_json json = JsonOf(report);
+  EXPECT_TRUE(json["labels"][0]["boundary_genus"].is_null()) << json;
+  EXPECT_TRUE(json["labels"][0]["boundary_component_genera"].is_null()) << json;
+  EXPECT_EQ(json["quality"]["manifold"], false) << json;
 }
 
 TEST(QualityReport, TableNamesEveryMeasure)

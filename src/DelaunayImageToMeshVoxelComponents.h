@@ -1,0 +1,35 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef DelaunayImageToMeshVoxelComponents_h
+#define DelaunayImageToMeshVoxelComponents_h
+
+#include "DelaunayImageToMeshSurfaceExtraction.h"
+
+#include <cstddef>
+
+namespace delaunay_refinement
+{
+
+/** The number of face-connected components of the voxels of `label` in `volume` (VTK's image connectivity
+ * filter): how many pieces a tissue is made of in the segmentation. */
+std::size_t
+CountVoxelComponents(const LabelVolume & volume, Label label);
+
+} // namespace delaunay_refinement
+
+#endif

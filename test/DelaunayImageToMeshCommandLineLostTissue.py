@@ -1,0 +1,71 @@
+# ==========================================================================
+#
+#   Copyright NumFOCUS
+#
+#   Licensed under the Apache License, Version 2.0 (the "License");
+#   you may not use this file except in compliance with the License.
+#   You may obtain a copy of the License at
+#
+#          http://www.apache.org/licenses/LICENSE-2.0.txt
+#
+#   Unless required by applicable law or agreed to in writing, software
+#   distributed under the License is distributed on an "AS IS" BASIS,
+#   WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+#   See the License for the specific language governing permissions and
+#   limitations under the License.
+#
+# ==========================================================================
+"""A tissue the mesh loses reads as lost, in the table and in the JSON report: speck.nii.gz holds two balls and
+label 3, two face-adjacent voxels of 1 x 1.25 x 1.5 mm, far thinner than the default delta (6 mm). Its row must
+say "lost: 1 component, 3.8 mm^3", and its JSON entry "lost": true with the component and the volume, never the
+angle or the genus of its empty boundary.
+
+Usage: DelaunayImageToMeshCommandLineLostTissue.py PROGRAM IMAGE_DIRECTORY OUTPUT_DIRECTORY"""
+
+import json
+import math
+import os
+import sys
+
+from DelaunayImageToMeshCommandLineTesting import check, describe, run
+
+SPECK_LABEL = 3
+SPECK_VOLUME = 2 * 1.0 * 1.25 * 1.5
+
+
+def main(program, images, output):
+    os.makedirs(output, exist_ok=True)
+    report_path = os.path.join(output, "speck.json")
+    result = run(program, [os.path.join(images, "speck.nii.gz"), os.path.join(output, "speck.vtu"), "--report",
+                           report_path])
+    check(result.returncode == 0, describe(result))
+    with open(report_path, encoding="utf-8") as file:
+        labels = {entry["label"]: entry for entry in json.load(file)["labels"]}
+
+    check(sorted(labels) == [1, 2, SPECK_LABEL], f"labels in the report: {sorted(labels)}")
+    speck = labels[SPECK_LABEL]
+    check(speck["tetrahedra"] == 0, f"the premise failed: label 3 was meshed at the default delta: {speck}")
+    check(speck["lost"] is True and speck["lost_components"] == 1, f"label 3 not reported as lost: {speck}")
+    check(math.isclose(speck["lost_volume_mm3"], SPECK_VOLUME, rel_tol=1e-9), f"lost volume: {speck}")
+    check(speck["min_planar_angle_deg"] is None and speck["boundary_genus"] is None,
+          f"an empty boundary was given an angle or a genus: {speck}")
+    for label in (1, 2):
+        check(labels[label]["lost"] is False and "lost_components" not in labels[label],
+              f"meshed label {label} reported as lost: {labels[label]}")
+
+    rows = [line.split() for line in result.stdout.splitlines()]
+    speck_rows = [row for row in rows if row[:3] == [str(SPECK_LABEL), "0", "0"]]
+    check(len(speck_rows) == 1, f"expected one table row for label 3: {describe(result)}")
+    # Columns: label, vertices, tetrahedra, triangles, mesh and voxel volumes, then components, genus,
+    # non-manifold edges/vertices and min angle, which an empty boundary does not have.
+    check(speck_rows[0][6:10] == ["-"] * 4, f"label 3's boundary columns should be '-': {speck_rows[0]}")
+    check(speck_rows[0][10:] == ["lost:", "1", "component,", "3.8", "mm^3"],
+          f"label 3's row should end with 'lost: 1 component, 3.8 mm^3': {speck_rows[0]}")
+    check("180.00" not in result.stdout, f"an angle of an empty set is printed: {describe(result)}")
+    check("LOST tissues                label 3 (1 component, 3.8 mm^3)" in result.stdout,
+          f"the summary does not list the lost tissue: {describe(result)}")
+    print("label 3 (2 voxels) lost at the default delta: 'lost: 1 component, 3.8 mm^3' in the table and JSON")
+
+
+if __name__ == "__main__":
+    main(*sys.argv[1:])
