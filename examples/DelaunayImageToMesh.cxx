@@ -23,8 +23,10 @@
 #include "DelaunayImageToMeshWriters.h"
 #include "itkDelaunayImageToMeshFilter.h"
 
-#include "itkGDCMImageIO.h"
-#include "itkGDCMSeriesFileNames.h"
+#if DelaunayImageToMesh_READS_DICOM
+#  include "itkGDCMImageIO.h"
+#  include "itkGDCMSeriesFileNames.h"
+#endif
 #include "itkImageFileReader.h"
 #include "itkImageIOFactory.h"
 #include "itkImageSeriesReader.h"
@@ -71,6 +73,8 @@ constexpr int          FailureExitCode = 2;
 using LabelImageType = itk::Image<int32_t, 3>;
 using GrayImageType = itk::Image<float, 3>;
 using OutputMeshType = itk::Mesh<int32_t, 3>;
+/** The filter's own defaults and limits (the same for every input pixel type). */
+using FilterDefaults = itk::DelaunayImageToMeshFilter<itk::Image<int32_t, 3>, OutputMeshType>;
 
 /** A problem the user can fix (an argument, a file): reported as one line, without a stack. */
 class UserError : public std::runtime_error
@@ -92,6 +96,9 @@ struct Options
   std::vector<std::string> labels;
   bool                     mergeLabels{ false };
   bool                     keepDiagonalVoxels{ false };
+  double                   regularizationScale{ FilterDefaults::DefaultRegularizationScale };
+  unsigned int             topologyRegularizationRounds{ RefinementParameters{}.topologyRegularizationRounds };
+  unsigned int             manifoldRefinementLevels{ RefinementParameters{}.manifoldRefinementLevels };
   std::optional<double>    isoValue;
   std::size_t              maximumNumberOfVertices{ RefinementParameters{}.maximumNumberOfVertices };
   std::string              reportPath;
@@ -240,6 +247,32 @@ AddOptions(CLI::App & app, Options & options)
                options.keepDiagonalVoxels,
                "do not join voxels of a tissue that touch only along an edge (default: one\nof the two "
                "background voxels at that edge joins them, so that the boundary\ncan be a manifold there)");
+  app.add_option("--regularization-scale", options.regularizationScale)
+    ->description("delta is the resolution: parts of a tissue thinner than 2 x S x delta go to\ntheir neighbours and "
+                  "slits that thin are filled, 0 to 0.5 (0 = the voxels as\nthey are)")
+    ->type_name("S")
+    ->capture_default_str()
+    ->check(Requirement(
+      [](const std::string & text) {
+        double value = -1.0;
+        return CLI::detail::lexical_cast(text, value) && value >= 0.0 &&
+               value <= FilterDefaults::LargestRegularizationScale;
+      },
+      "a number in [0, 0.5]"));
+  app.add_option("--topology-rounds", options.topologyRegularizationRounds)
+    ->description("where a boundary is still not a manifold, regularise the labels around it\nand refine again, at "
+                  "most N rounds (0 = never)")
+    ->type_name("N")
+    ->capture_default_str()
+    ->check(WholeNumber)
+    ->check(CoreRange(&RefinementParameters::topologyRegularizationRounds));
+  app.add_option("--manifold-levels", options.manifoldRefinementLevels)
+    ->description("the old repair, opt-in: halve delta up to N times where a boundary is still\nnot a manifold "
+                  "(meshes several times larger; default 0 = off)")
+    ->type_name("N")
+    ->capture_default_str()
+    ->check(WholeNumber)
+    ->check(CoreRange(&RefinementParameters::manifoldRefinementLevels));
   app.add_option("--iso", options.isoValue)
     ->description("treat INPUT as a gray image: mesh where the linearly interpolated value is\n>= VALUE, as label 1")
     ->type_name("VALUE")
@@ -373,6 +406,10 @@ template <typename TImage>
 typename TImage::Pointer
 ReadDicomSeries(const std::string & directory, std::ostream * notes)
 {
+#if !DelaunayImageToMesh_READS_DICOM
+  (void)notes;
+  throw UserError("cannot read input '" + directory + "': this build has no DICOM reader (ITK without ITKIOGDCM)");
+#else
   auto seriesFiles = itk::GDCMSeriesFileNames::New();
   seriesFiles->SetUseSeriesDetails(true);
   // It warns in several lines when it finds no series; this program says so in one.
@@ -402,6 +439,7 @@ ReadDicomSeries(const std::string & directory, std::ostream * notes)
     throw UserError("cannot read the DICOM series in '" + directory + "': " + OneLine(error.GetDescription()));
   }
   return reader->GetOutput();
+#endif
 }
 
 template <typename TImage>
@@ -499,6 +537,9 @@ MakeFilter(const TImage * image, const Options & options)
   filter->SetMinimumDihedralAngle(options.minimumDihedralAngle);
   filter->SetMaximumNumberOfVertices(options.maximumNumberOfVertices);
   filter->SetJoinDiagonalVoxels(!options.keepDiagonalVoxels);
+  filter->SetRegularizationScale(options.regularizationScale);
+  filter->SetTopologyRegularizationRounds(options.topologyRegularizationRounds);
+  filter->SetManifoldRefinementLevels(options.manifoldRefinementLevels);
   if (options.isoValue)
   {
     filter->SetIsoValue(*options.isoValue);
@@ -568,9 +609,10 @@ MeshImage(const Options & options)
   if (wantReport)
   {
     const Stopwatch reportTime;
-    // The reference is what the filter meshed: the voxels after label selection, merging or the iso-value, with
-    // the joining voxels.
-    report = delaunay_refinement::ComputeQualityReport(mesh, itk::MakeLabelVolume(filter->GetObjectLabelImage()));
+    // The reference is the segmentation: the voxels after label selection, merging or the iso-value, before the
+    // regularisation at the scale of delta, so that fidelity is measured against the input and a tissue the
+    // regularisation removed reads as lost.
+    report = delaunay_refinement::ComputeQualityReport(mesh, itk::MakeLabelVolume(filter->GetSelectedLabelImage()));
     phaseSeconds.emplace_back("report", reportTime.Seconds());
   }
 

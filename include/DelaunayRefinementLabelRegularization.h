@@ -53,12 +53,14 @@ struct LabelRegularizationReport
 };
 
 /** Regularises a label image at a physical scale: every label, the background included, is opened with a ball of
- * `radius` (erosion then dilation, in physical distances between voxel centres), and every voxel that its own
- * label's opening removed takes the label of the nearest voxel (physical distance between centres) that survived
- * its own label's opening; ties go to the smaller offset. Opening the background closes the tissues, so one rule
- * removes a tissue's parts thinner than 2 × radius (bridges, sheets, speckle) and fills its slits and gaps thinner
- * than that, for every label alike and with no label favoured. Every part of a label that holds a ball of radius
- * `radius` stays. A voxel no label survives near (every label thin everywhere) keeps its label.
+ * `radius`, and every voxel that its own label's opening removed takes the label of the nearest voxel (physical
+ * distance between centres) that survived its own label's opening. Voxels are cubes, distances are measured between
+ * centres: the erosion keeps a voxel whose nearest voxel of another label is farther than radius + h/2 (h the
+ * smallest spacing), the dilation gives back the label's voxels within radius + h of a survivor. Opening the
+ * background closes the tissues, so one rule removes a tissue's parts thinner than about 2 × radius (bridges,
+ * sheets, speckle) and fills its slits and gaps thinner than that, for every label alike and with no label favoured.
+ * Every part of a label that holds a ball of radius + h/2 around a voxel centre stays. A voxel no label survives
+ * near (every label thin everywhere) keeps its label.
  *
  * `labels` is a dense grid, voxel (i, j, k) at labels[i + size[0] * (j + size[1] * k)], with `spacing` between
  * voxel centres along each axis (the direction of the axes does not matter: distances are kept by rotations).

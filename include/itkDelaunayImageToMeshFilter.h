@@ -142,7 +142,9 @@ public:
    * DefaultRegularizationScale; 0 = the voxels as they are; valid: [0, 0.5] (a ball of diameter δ always stays). */
   itkSetMacro(RegularizationScale, double);
   itkGetConstMacro(RegularizationScale, double);
-  static constexpr double DefaultRegularizationScale = 0.5;
+  static constexpr double DefaultRegularizationScale = 0.4;
+  /** Beyond half of δ the opening would remove parts that hold a ball of diameter δ. */
+  static constexpr double LargestRegularizationScale = 0.5;
 
   /** Where a boundary still comes out non-manifold after the refinement, the labels are regularised in a ball of
    * radius δ around each such place (the place's label fills the ball or leaves it, whichever changes fewer
@@ -245,6 +247,15 @@ public:
     return m_ObjectLabelImage;
   }
 
+  /** The voxel labels the last update selected from the input (label selection, merging or the iso-value),
+   * cropped like GetObjectLabelImage(), before the regularisation and the joining of diagonal voxels: the
+   * segmentation the mesh stands for, the reference for fidelity and for tissues the regularisation removed. */
+  const ObjectLabelImageType *
+  GetSelectedLabelImage() const
+  {
+    return m_SelectedLabelImage;
+  }
+
   /** What the regularisation (RegularizationScale) did to each label during the last update. */
   const delaunay_refinement::LabelRegularizationReport &
   GetRegularizationReport() const
@@ -309,6 +320,7 @@ private:
   delaunay_refinement::RefinementStatistics      m_RefinementStatistics;
   delaunay_refinement::LabelRegularizationReport m_RegularizationReport;
   typename ObjectLabelImageType::ConstPointer    m_ObjectLabelImage;
+  typename ObjectLabelImageType::ConstPointer    m_SelectedLabelImage;
 };
 
 } // namespace itk

@@ -204,7 +204,7 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
     itkExceptionMacro(<< error.what());
   }
 
-  if (!(m_RegularizationScale >= 0.0 && m_RegularizationScale <= 0.5))
+  if (!(m_RegularizationScale >= 0.0 && m_RegularizationScale <= LargestRegularizationScale))
   {
     itkExceptionMacro(<< "Invalid RegularizationScale = " << m_RegularizationScale
                       << ": the valid range is [0, 0.5] (a fraction of delta; 0 = no regularisation)");
@@ -233,6 +233,7 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
   }
   ImageLabelOracle<InputImageType> & oracle = *oraclePointer;
   m_ObjectLabelImage = oracle.GetLabelImage();
+  m_SelectedLabelImage = oracle.GetSelectedLabelImage();
   m_RegularizationReport = oracle.GetRegularizationReport();
   m_NumberOfJoiningVoxels = oracle.GetNumberOfJoiningVoxels();
   if (oracle.GetNumberOfObjectVoxels() == 0 && m_RegularizationReport.changedVoxels > 0)

@@ -140,6 +140,14 @@ public:
     return m_LabelImage;
   }
 
+  /** The voxel labels as the mapping selects them from the input, before the regularisation and the joining of
+   * diagonal voxels (the same region as GetLabelImage()): the segmentation the mesh stands for. */
+  const LabelImageType *
+  GetSelectedLabelImage() const
+  {
+    return m_SelectedLabelImage;
+  }
+
   /** What the regularisation (ImageLabelMapping::regularizationRadius) did to each label. */
   const delaunay_refinement::LabelRegularizationReport &
   GetRegularizationReport() const
@@ -217,6 +225,7 @@ private:
   /** Whether LabelAt() is the label of the nearest voxel (a nearest-neighbour interpolator). */
   bool                             m_LabelsAreVoxelwise;
   typename LabelImageType::Pointer m_LabelImage;
+  typename LabelImageType::Pointer m_SelectedLabelImage;
   /** For each voxel of m_LabelImage (by buffer offset), the buffer offset of the nearest interface voxel. */
   std::vector<uint32_t> m_NearestInterfaceVoxel;
   /** Buffer offset steps of m_LabelImage along each axis. */

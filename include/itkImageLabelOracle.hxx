@@ -140,6 +140,18 @@ ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
   {
     output.Set(MapValueRemembering(static_cast<double>(input.Get()), memo));
   }
+  m_SelectedLabelImage = m_LabelImage;
+  if ((m_Mapping.regularizationRadius > 0.0 || m_Mapping.joinDiagonalVoxels) && m_LabelsAreVoxelwise)
+  {
+    // The labels change below, and locally during the refinement: keep the selection as it was.
+    m_SelectedLabelImage = LabelImageType::New();
+    m_SelectedLabelImage->CopyInformation(m_LabelImage);
+    m_SelectedLabelImage->SetRegions(kept);
+    m_SelectedLabelImage->Allocate();
+    std::copy(m_LabelImage->GetBufferPointer(),
+              m_LabelImage->GetBufferPointer() + kept.GetNumberOfPixels(),
+              m_SelectedLabelImage->GetBufferPointer());
+  }
   if (m_Mapping.regularizationRadius > 0.0 && m_LabelsAreVoxelwise && m_NumberOfObjectVoxels > 0)
   {
     // Regularisation only moves labels between voxels that are already inside the object's padded bounds.

@@ -188,9 +188,12 @@ public:
     , m_Spacing(spacing)
     , m_Radius(radius)
     // Distances are between voxel centres, but a voxel is a cube: a centre whose nearest other label's centre is
-    // d away is about d - h/2 from that label's voxels. Half the smallest spacing makes the erosion see that,
-    // so that a one-voxel part (d = h) goes at a radius of h/2 already, as the continuous opening would.
+    // d away is about d - h/2 from that label's voxels. Half the smallest spacing makes the erosion see that, so
+    // that a one-voxel part (d = h) goes at a radius of h/2 already, as the continuous opening would; and the
+    // dilation gives back every voxel whose cube reaches a survivor's ball (r + h/2 + h/2), so that a convex part
+    // wider than the ball keeps its voxels, corners included.
     , m_Reach(radius > 0.0 ? radius + 0.5 * std::min({ spacing[0], spacing[1], spacing[2] }) : 0.0)
+    , m_DilationReach(radius > 0.0 ? radius + std::min({ spacing[0], spacing[1], spacing[2] }) : 0.0)
     , m_NumberOfVoxels(size[0] * size[1] * size[2])
   {}
 
@@ -343,7 +346,7 @@ private:
       // A margin of the erosion's reach (and one voxel): beyond it no voxel of another label can matter.
       for (int axis = 0; axis < 3; ++axis)
       {
-        const long margin = static_cast<long>(std::ceil(m_Reach / m_Spacing[axis])) + 1;
+        const long margin = static_cast<long>(std::ceil(m_DilationReach / m_Spacing[axis])) + 1;
         entry.bounds.lower[axis] = entry.lowest[axis] - margin;
         entry.bounds.size[axis] = entry.highest[axis] - entry.lowest[axis] + 1 + 2 * margin;
       }
@@ -380,7 +383,8 @@ private:
     }
     eroded.Compute([this] { Checkpoint(); });
     ForEachVoxel(box, [&](std::size_t index, const std::array<long, 3> & coordinates) {
-      if (IsInGrid(coordinates) && LabelAt(coordinates) == label && eroded.SquaredDistance(index) <= squaredRadius)
+      if (IsInGrid(coordinates) && LabelAt(coordinates) == label &&
+          eroded.SquaredDistance(index) <= m_DilationReach * m_DilationReach)
       {
         survives[GridOffset(coordinates)] = true;
       }
@@ -475,6 +479,7 @@ private:
   Vector3                       m_Spacing;
   double                        m_Radius;
   double                        m_Reach;
+  double                        m_DilationReach;
   std::size_t                   m_NumberOfVoxels;
   /** The root voxel of each voxel's face-connected component, from the last CountComponents(). */
   std::vector<std::size_t> m_ComponentOf;
