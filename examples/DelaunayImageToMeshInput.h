@@ -1,0 +1,173 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef DelaunayImageToMeshInput_h
+#define DelaunayImageToMeshInput_h
+
+// The command-line program's input (examples/DelaunayImageToMesh.cxx): an image file ITK can read, or a directory
+// holding a DICOM series, read as a 3-D image, every failure turned into one line the user can act on.
+
+#include "itkImageFileReader.h"
+#include "itkImageIOFactory.h"
+#include "itkImageSeriesReader.h"
+#if DelaunayImageToMesh_READS_DICOM
+#  include "itkGDCMImageIO.h"
+#  include "itkGDCMSeriesFileNames.h"
+#endif
+
+#include <filesystem>
+#include <ostream>
+#include <regex>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace delaunay_image_to_mesh_program
+{
+
+inline constexpr const char * ProgramName = "delaunay-image-to-mesh";
+
+/** A problem the user can fix (an argument, a file): reported as one line, without a stack. */
+class UserError : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
+
+
+/** ITK's descriptions may span lines and start with "ITK ERROR: ClassName(0x...): "; the user needs one line,
+ * the message. */
+inline std::string
+OneLine(const std::string & description)
+{
+  static const std::regex objectPrefix("^\\s*(ITK ERROR:|itk::ERROR:)?\\s*[A-Za-z_:]+\\(0x[0-9a-fA-F]+\\):\\s*");
+  static const std::regex whitespace("\\s+");
+  const std::string message = std::regex_replace(std::regex_replace(description, objectPrefix, ""), whitespace, " ");
+  const std::size_t end = message.find_last_not_of(' ');
+  return end == std::string::npos ? message : message.substr(0, end + 1);
+}
+
+inline void
+CheckThreeDimensional(const std::string & path, const itk::ImageIOBase & io)
+{
+  unsigned int dimensions = io.GetNumberOfDimensions();
+  // A 4-D file with a single time point (common for NIfTI) is still a 3-D image.
+  while (dimensions > 3 && io.GetDimensions(dimensions - 1) == 1)
+  {
+    --dimensions;
+  }
+  if (dimensions != 3)
+  {
+    throw UserError("cannot mesh input '" + path + "': it is a " + std::to_string(io.GetNumberOfDimensions()) +
+                    "-D image, a 3-D image is needed");
+  }
+}
+
+inline void
+CheckReadableFile(const std::string & path)
+{
+  std::FILE * file = std::fopen(path.c_str(), "rb");
+  if (file == nullptr)
+  {
+    throw UserError("cannot read input '" + path + "': " + std::strerror(errno));
+  }
+  std::fclose(file);
+}
+
+template <typename TImage>
+typename TImage::Pointer
+ReadImageFile(const std::string & path)
+{
+  CheckReadableFile(path);
+  const itk::ImageIOBase::Pointer io = itk::ImageIOFactory::CreateImageIO(path.c_str(), itk::IOFileModeEnum::ReadMode);
+  if (io.IsNull())
+  {
+    throw UserError("cannot read input '" + path +
+                    "': not an image format ITK can read here (NIfTI, NRRD, MetaImage, DICOM)");
+  }
+  auto reader = itk::ImageFileReader<TImage>::New();
+  reader->SetFileName(path);
+  reader->SetImageIO(io);
+  try
+  {
+    io->SetFileName(path);
+    io->ReadImageInformation();
+    CheckThreeDimensional(path, *io);
+    reader->Update();
+  }
+  catch (const itk::ExceptionObject & error)
+  {
+    throw UserError("cannot read input '" + path + "': " + OneLine(error.GetDescription()));
+  }
+  return reader->GetOutput();
+}
+
+template <typename TImage>
+typename TImage::Pointer
+ReadDicomSeries(const std::string & directory, std::ostream * notes)
+{
+#if !DelaunayImageToMesh_READS_DICOM
+  (void)notes;
+  throw UserError("cannot read input '" + directory + "': this build has no DICOM reader (ITK without ITKIOGDCM)");
+#else
+  auto seriesFiles = itk::GDCMSeriesFileNames::New();
+  seriesFiles->SetUseSeriesDetails(true);
+  // It warns in several lines when it finds no series; this program says so in one.
+  const bool showWarnings = itk::Object::GetGlobalWarningDisplay();
+  itk::Object::GlobalWarningDisplayOff();
+  seriesFiles->SetDirectory(directory);
+  const std::vector<std::string> seriesIdentifiers = seriesFiles->GetSeriesUIDs();
+  itk::Object::SetGlobalWarningDisplay(showWarnings);
+  if (seriesIdentifiers.empty())
+  {
+    throw UserError("cannot read input '" + directory + "': the directory holds no DICOM series");
+  }
+  if (seriesIdentifiers.size() > 1 && notes != nullptr)
+  {
+    *notes << ProgramName << ": note: '" << directory << "' holds " << seriesIdentifiers.size()
+           << " DICOM series; reading the first, " << seriesIdentifiers.front() << '\n';
+  }
+  auto reader = itk::ImageSeriesReader<TImage>::New();
+  reader->SetImageIO(itk::GDCMImageIO::New());
+  reader->SetFileNames(seriesFiles->GetFileNames(seriesIdentifiers.front()));
+  try
+  {
+    reader->Update();
+  }
+  catch (const itk::ExceptionObject & error)
+  {
+    throw UserError("cannot read the DICOM series in '" + directory + "': " + OneLine(error.GetDescription()));
+  }
+  return reader->GetOutput();
+#endif
+}
+
+template <typename TImage>
+typename TImage::Pointer
+ReadImage(const std::string & path, std::ostream * notes)
+{
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error))
+  {
+    return ReadDicomSeries<TImage>(path, notes);
+  }
+  return ReadImageFile<TImage>(path);
+}
+
+} // namespace delaunay_image_to_mesh_program
+
+#endif
