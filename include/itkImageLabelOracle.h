@@ -242,6 +242,7 @@ private:
 
 #ifndef ITK_MANUAL_INSTANTIATION
 #  include "itkImageLabelOracle.hxx"
+#  include "itkImageLabelOracleRegularization.hxx"
 #endif
 
 #endif

@@ -23,14 +23,12 @@
 #include "itkImageRegionConstIterator.h"
 #include "itkImageRegionConstIteratorWithIndex.h"
 #include "itkImageRegionIterator.h"
-#include "itkImageRegionIteratorWithIndex.h"
 #include "itkNearestNeighborInterpolateImageFunction.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
-#include <map>
 
 namespace itk
 {
@@ -646,141 +644,6 @@ ImageLabelOracle<TInputImage>::SurfaceTolerance() const
   return m_SurfaceTolerance;
 }
 
-
-template <typename TInputImage>
-void
-ImageLabelOracle<TInputImage>::CountObjectVoxels()
-{
-  const LabelType * labels = m_LabelImage->GetBufferPointer();
-  const auto        count = m_LabelImage->GetBufferedRegion().GetNumberOfPixels();
-  m_NumberOfObjectVoxels = static_cast<SizeValueType>(std::count_if(
-    labels, labels + count, [](LabelType label) { return label != delaunay_refinement::BackgroundLabel; }));
-}
-
-template <typename TInputImage>
-SizeValueType
-ImageLabelOracle<TInputImage>::RegularizeBall(const delaunay_refinement::NonManifoldPlace & place, double radius)
-{
-  // The outer layer of the label image stays background: the feature transform needs every interface inside.
-  auto interior = m_LabelImage->GetBufferedRegion();
-  interior.ShrinkByRadius(1);
-  PointType center;
-  for (unsigned int axis = 0; axis < 3; ++axis)
-  {
-    center[axis] = place.point[axis];
-  }
-  ContinuousIndex<double, 3> centerIndex;
-  m_LabelImage->TransformPhysicalPointToContinuousIndex(center, centerIndex);
-  // The direction matrix is a rotation, so the ball spans radius / spacing voxels along each index axis.
-  IndexType lower;
-  IndexType upper;
-  for (unsigned int axis = 0; axis < 3; ++axis)
-  {
-    const double reach = radius / m_LabelImage->GetSpacing()[axis];
-    lower[axis] =
-      std::max(static_cast<IndexValueType>(std::floor(centerIndex[axis] - reach)), interior.GetIndex()[axis]);
-    upper[axis] =
-      std::min(static_cast<IndexValueType>(std::ceil(centerIndex[axis] + reach)), interior.GetUpperIndex()[axis]);
-    if (lower[axis] > upper[axis])
-    {
-      return 0;
-    }
-  }
-  typename LabelImageType::RegionType box;
-  box.SetIndex(lower);
-  box.SetUpperIndex(upper);
-  std::vector<LabelType *>           inside;
-  std::map<LabelType, SizeValueType> counts;
-  for (ImageRegionIteratorWithIndex<LabelImageType> it(m_LabelImage, box); !it.IsAtEnd(); ++it)
-  {
-    PointType point;
-    m_LabelImage->TransformIndexToPhysicalPoint(it.GetIndex(), point);
-    if (point.EuclideanDistanceTo(center) <= radius)
-    {
-      inside.push_back(&it.Value());
-      ++counts[it.Get()];
-    }
-  }
-  const SizeValueType own = counts[place.label];
-  LabelType           replacement = place.label;
-  if (2 * own < static_cast<SizeValueType>(inside.size()))
-  {
-    SizeValueType mostFrequent = 0;
-    for (const auto & [label, count] : counts)
-    {
-      if (label != place.label && count > mostFrequent)
-      {
-        mostFrequent = count;
-        replacement = label;
-      }
-    }
-  }
-  SizeValueType changed = 0;
-  for (LabelType * voxel : inside)
-  {
-    // Filling: every voxel takes the place's label; cutting: the place's voxels take the replacement.
-    const bool fill = replacement == place.label;
-    if ((fill && *voxel != place.label) || (!fill && *voxel == place.label))
-    {
-      *voxel = replacement;
-      ++changed;
-    }
-  }
-  return changed;
-}
-
-template <typename TInputImage>
-std::vector<delaunay_refinement::Ball>
-ImageLabelOracle<TInputImage>::RegularizeAround(const std::vector<delaunay_refinement::NonManifoldPlace> & places,
-                                                double                                                     radius)
-{
-  std::vector<delaunay_refinement::Ball> balls;
-  if (!m_LabelsAreVoxelwise || m_NumberOfObjectVoxels == 0)
-  {
-    return balls;
-  }
-  const LabelType *            buffer = m_LabelImage->GetBufferPointer();
-  const auto                   numberOfVoxels = m_LabelImage->GetBufferedRegion().GetNumberOfPixels();
-  const std::vector<LabelType> before(buffer, buffer + numberOfVoxels);
-  SizeValueType                changed = 0;
-  for (const delaunay_refinement::NonManifoldPlace & place : places)
-  {
-    const SizeValueType changedHere = RegularizeBall(place, radius);
-    if (changedHere > 0)
-    {
-      changed += changedHere;
-      balls.push_back({ place.point, radius });
-    }
-  }
-  if (balls.empty())
-  {
-    return balls;
-  }
-  const auto & size = m_LabelImage->GetBufferedRegion().GetSize();
-  if (m_Mapping.joinDiagonalVoxels)
-  {
-    m_NumberOfJoiningVoxels +=
-      delaunay_refinement::JoinDiagonalVoxels(m_LabelImage->GetBufferPointer(), { size[0], size[1], size[2] });
-  }
-  CountObjectVoxels();
-  if (m_NumberOfObjectVoxels == 0)
-  {
-    // Nothing would be left to mesh: keep the labels as they were.
-    std::copy(before.begin(), before.end(), m_LabelImage->GetBufferPointer());
-    CountObjectVoxels();
-    return {};
-  }
-  m_NumberOfLocallyRegularizedVoxels += changed;
-  BuildNearestInterfaceMap();
-  // A joining voxel lies next to a changed one: the balls grow by a voxel's diagonal to hold every change.
-  const auto & spacing = m_LabelImage->GetSpacing();
-  const double voxelDiagonal = std::sqrt(spacing[0] * spacing[0] + spacing[1] * spacing[1] + spacing[2] * spacing[2]);
-  for (delaunay_refinement::Ball & ball : balls)
-  {
-    ball.radius += voxelDiagonal;
-  }
-  return balls;
-}
 
 } // namespace itk
 
