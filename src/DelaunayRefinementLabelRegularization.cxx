@@ -15,11 +15,12 @@
  *  limitations under the License.
  *
  *=========================================================================*/
-
-// The regularisation of a label image at the scale of δ (docs/algorithm.md, "Topology"). Distances are exact
-// Euclidean distances between voxel centres, by the separable lower-envelope transform of Felzenszwalb and
-// Huttenlocher (Distance transforms of sampled functions, Theory of Computing 8, 2012), one axis at a time, with
-// the nearest site carried along where the label of the nearest survivor is needed.
+// The regularisation of a label image at the scale of δ (docs/algorithm.md, "Topology"). Its cost follows the
+// labels' interfaces, not the volume: a voxel can lose its label only within the erosion's reach of a voxel of
+// another label, so the erosion and the dilation are balls stamped from the voxels at an interface, row by row
+// (the ball's rows along x). Distances are exact Euclidean distances between voxel centres. Only the voxels the
+// opening removed look for their nearest survivor, by the separable lower-envelope transform of Felzenszwalb and
+// Huttenlocher (Distance transforms of sampled functions, Theory of Computing 8, 2012) over a box around them.
 
 #include "DelaunayRefinementLabelRegularization.h"
 #include "DelaunayRefinementMesher.h"
@@ -39,7 +40,7 @@ namespace
 constexpr double      Infinity = std::numeric_limits<double>::infinity();
 constexpr std::size_t NoSite = std::numeric_limits<std::size_t>::max();
 
-/** A box of voxels, possibly reaching outside the grid (where everything is background). */
+/** A box of voxels: lower corner and size, in the coordinates of the grid it is cut from. */
 struct VoxelBox
 {
   std::array<long, 3> lower{};
@@ -177,6 +178,442 @@ private:
   std::vector<double>      m_Boundaries;
 };
 
+/** The voxels within `radius` of a voxel centre (centre to centre, exact), as rows along x: for each (dy, dz), the
+ * offsets -halfWidth..halfWidth. */
+struct BallRow
+{
+  long dy{ 0 };
+  long dz{ 0 };
+  long halfWidth{ 0 };
+};
+
+std::vector<BallRow>
+BallRows(double radius, const Vector3 & spacing)
+{
+  const double squaredRadius = radius * radius;
+  const auto   squaredLength = [&spacing](long dx, long dy, long dz) {
+    const double x = static_cast<double>(dx) * spacing[0];
+    const double y = static_cast<double>(dy) * spacing[1];
+    const double z = static_cast<double>(dz) * spacing[2];
+    return x * x + y * y + z * z;
+  };
+  std::vector<BallRow> rows;
+  const long           reachY = static_cast<long>(std::ceil(radius / spacing[1]));
+  const long           reachZ = static_cast<long>(std::ceil(radius / spacing[2]));
+  for (long dz = -reachZ; dz <= reachZ; ++dz)
+  {
+    for (long dy = -reachY; dy <= reachY; ++dy)
+    {
+      if (squaredLength(0, dy, dz) > squaredRadius)
+      {
+        continue;
+      }
+      // The same predicate as every other distance test here, so that the rows hold exactly the ball's voxels.
+      long halfWidth = static_cast<long>(std::ceil(radius / spacing[0]));
+      while (squaredLength(halfWidth, dy, dz) > squaredRadius)
+      {
+        --halfWidth;
+      }
+      rows.push_back({ dy, dz, halfWidth });
+    }
+  }
+  return rows;
+}
+
+/** One bit per voxel of a box, a row of 64-bit words for each (y, z): the opening works on whole rows, 64 voxels
+ * to a word, so that its cost follows the number of rows rather than the number of voxels. Coordinates are the
+ * box's own (0 .. size - 1). */
+class BoxBits
+{
+public:
+  explicit BoxBits(const VoxelBox & box)
+    : m_Box(box)
+    , m_WordsPerRow(static_cast<std::size_t>((box.size[0] + 63) / 64))
+    , m_Words(m_WordsPerRow * static_cast<std::size_t>(box.size[1] * box.size[2]), 0)
+  {}
+
+  const VoxelBox &
+  Box() const
+  {
+    return m_Box;
+  }
+
+  std::size_t
+  WordsPerRow() const
+  {
+    return m_WordsPerRow;
+  }
+
+  uint64_t *
+  Row(long y, long z)
+  {
+    return m_Words.data() + m_WordsPerRow * static_cast<std::size_t>(y + m_Box.size[1] * z);
+  }
+
+  const uint64_t *
+  Row(long y, long z) const
+  {
+    return m_Words.data() + m_WordsPerRow * static_cast<std::size_t>(y + m_Box.size[1] * z);
+  }
+
+  bool
+  Test(long x, long y, long z) const
+  {
+    return (Row(y, z)[x >> 6] >> (x & 63)) & 1U;
+  }
+
+  void
+  Set(long x, long y, long z)
+  {
+    Row(y, z)[x >> 6] |= uint64_t{ 1 } << (x & 63);
+  }
+
+  /** this = this & other, or this & ~other. */
+  void
+  Keep(const BoxBits & other, bool complement)
+  {
+    for (std::size_t word = 0; word < m_Words.size(); ++word)
+    {
+      m_Words[word] &= complement ? ~other.m_Words[word] : other.m_Words[word];
+    }
+  }
+
+  /** Every voxel of the box not set, and only those. */
+  void
+  Invert()
+  {
+    for (std::size_t row = 0; row < m_Words.size(); row += m_WordsPerRow)
+    {
+      for (std::size_t word = 0; word < m_WordsPerRow; ++word)
+      {
+        m_Words[row + word] = ~m_Words[row + word];
+      }
+      m_Words[row + m_WordsPerRow - 1] &= LastWordMask();
+    }
+  }
+
+  bool
+  RowIsEmpty(long y, long z) const
+  {
+    const uint64_t * words = Row(y, z);
+    return std::all_of(words, words + m_WordsPerRow, [](uint64_t word) { return word == 0; });
+  }
+
+  bool
+  Any() const
+  {
+    return std::any_of(m_Words.begin(), m_Words.end(), [](uint64_t word) { return word != 0; });
+  }
+
+  /** Every voxel of row (y, z) also sets its two neighbours along x. */
+  void
+  GrowRowAlongX(long y, long z)
+  {
+    uint64_t * words = Row(y, z);
+    uint64_t   carryFromBelow = 0;
+    for (std::size_t word = 0; word < m_WordsPerRow; ++word)
+    {
+      const uint64_t value = words[word];
+      const uint64_t next = word + 1 < m_WordsPerRow ? words[word + 1] : 0;
+      words[word] = value | (value << 1) | carryFromBelow | (value >> 1) | (next << 63);
+      carryFromBelow = value >> 63;
+    }
+    words[m_WordsPerRow - 1] &= LastWordMask();
+  }
+
+  /** Calls visit(x, y, z) for every set voxel, in row order. */
+  template <typename TVisit>
+  void
+  ForEachSet(TVisit && visit) const
+  {
+    for (long z = 0; z < m_Box.size[2]; ++z)
+    {
+      for (long y = 0; y < m_Box.size[1]; ++y)
+      {
+        const uint64_t * words = Row(y, z);
+        for (std::size_t word = 0; word < m_WordsPerRow; ++word)
+        {
+          uint64_t bits = words[word];
+          while (bits != 0)
+          {
+            visit(static_cast<long>(word * 64) + __builtin_ctzll(bits), y, z);
+            bits &= bits - 1;
+          }
+        }
+      }
+    }
+  }
+
+private:
+  /** The bits of a row's last word that are voxels of the box. */
+  uint64_t
+  LastWordMask() const
+  {
+    return (m_Box.size[0] & 63) == 0 ? ~uint64_t{ 0 } : (uint64_t{ 1 } << (m_Box.size[0] & 63)) - 1;
+  }
+
+  VoxelBox              m_Box;
+  std::size_t           m_WordsPerRow;
+  std::vector<uint64_t> m_Words;
+};
+
+/** The voxels within the ball `rows` (centred on a voxel) of a voxel of `set`: rows along x grow a word at a time,
+ * and each row of the ball ORs whole rows into the result. */
+BoxBits
+DilateByBall(const BoxBits & set, const std::vector<BallRow> & rows)
+{
+  const VoxelBox & box = set.Box();
+  BoxBits          dilated(box);
+  BoxBits          grown = set;
+  long             widest = 0;
+  for (const BallRow & row : rows)
+  {
+    widest = std::max(widest, row.halfWidth);
+  }
+  // Growing along x keeps empty rows empty: only the others are visited.
+  std::vector<std::array<long, 2>> nonEmptyRows;
+  for (long z = 0; z < box.size[2]; ++z)
+  {
+    for (long y = 0; y < box.size[1]; ++y)
+    {
+      if (!set.RowIsEmpty(y, z))
+      {
+        nonEmptyRows.push_back({ { y, z } });
+      }
+    }
+  }
+  for (long width = 0; width <= widest; ++width)
+  {
+    if (width > 0)
+    {
+      for (const auto & [y, z] : nonEmptyRows)
+      {
+        grown.GrowRowAlongX(y, z);
+      }
+    }
+    for (const BallRow & row : rows)
+    {
+      if (row.halfWidth != width)
+      {
+        continue;
+      }
+      // The ball is symmetric: the set's row (y, z) reaches the rows (y - dy, z - dz).
+      for (const auto & [y, z] : nonEmptyRows)
+      {
+        const long targetY = y - row.dy;
+        const long targetZ = z - row.dz;
+        if (targetY < 0 || targetY >= box.size[1] || targetZ < 0 || targetZ >= box.size[2])
+        {
+          continue;
+        }
+        uint64_t *       target = dilated.Row(targetY, targetZ);
+        const uint64_t * source = grown.Row(y, z);
+        for (std::size_t word = 0; word < set.WordsPerRow(); ++word)
+        {
+          target[word] |= source[word];
+        }
+      }
+    }
+  }
+  return dilated;
+}
+
+/** The voxel offsets within `radius` of a voxel, nearest first (ties: smaller linear offset first), with their
+ * squared lengths: a search in this order stops at the first hit, which is the nearest. */
+struct NeighbourOffset
+{
+  std::array<long, 3> delta;
+  double              squaredLength;
+  long                linear;
+};
+
+std::vector<NeighbourOffset>
+NeighbourOffsetsByDistance(double radius, const Vector3 & spacing, const std::array<long, 3> & strides)
+{
+  std::vector<NeighbourOffset> offsets;
+  const std::array<long, 3>    reach{ { static_cast<long>(std::ceil(radius / spacing[0])),
+                                        static_cast<long>(std::ceil(radius / spacing[1])),
+                                        static_cast<long>(std::ceil(radius / spacing[2])) } };
+  for (long dz = -reach[2]; dz <= reach[2]; ++dz)
+  {
+    for (long dy = -reach[1]; dy <= reach[1]; ++dy)
+    {
+      for (long dx = -reach[0]; dx <= reach[0]; ++dx)
+      {
+        const double x = static_cast<double>(dx) * spacing[0];
+        const double y = static_cast<double>(dy) * spacing[1];
+        const double z = static_cast<double>(dz) * spacing[2];
+        const double squaredLength = x * x + y * y + z * z;
+        if (squaredLength <= radius * radius)
+        {
+          offsets.push_back({ { { dx, dy, dz } }, squaredLength, dx + strides[1] * dy + strides[2] * dz });
+        }
+      }
+    }
+  }
+  std::sort(offsets.begin(), offsets.end(), [](const NeighbourOffset & a, const NeighbourOffset & b) {
+    return a.squaredLength < b.squaredLength || (a.squaredLength == b.squaredLength && a.linear < b.linear);
+  });
+  return offsets;
+}
+/** Face-connected components of a label image, found on its runs of equal labels along x (a uniform region is a
+ * few long runs, so counting costs about a pass over the labels). */
+class LabelComponents
+{
+public:
+  struct Statistics
+  {
+    std::size_t voxels{ 0 };
+    std::size_t components{ 0 };
+    /** The label's bounding box, grid coordinates. */
+    std::array<long, 3> lowest{
+      { std::numeric_limits<long>::max(), std::numeric_limits<long>::max(), std::numeric_limits<long>::max() }
+    };
+    std::array<long, 3> highest{ { -1, -1, -1 } };
+  };
+
+  LabelComponents(const Label * labels, const std::array<std::size_t, 3> & size)
+  {
+    const std::size_t lines = size[1] * size[2];
+    m_FirstRunOfLine.reserve(lines + 1);
+    for (std::size_t line = 0; line < lines; ++line)
+    {
+      m_FirstRunOfLine.push_back(m_Runs.size());
+      const std::size_t lineStart = line * size[0];
+      for (std::size_t i = 0; i < size[0];)
+      {
+        const Label label = labels[lineStart + i];
+        std::size_t end = i + 1;
+        while (end < size[0] && labels[lineStart + end] == label)
+        {
+          ++end;
+        }
+        m_Runs.push_back({ lineStart + i, end - i, label });
+        i = end;
+      }
+    }
+    m_FirstRunOfLine.push_back(m_Runs.size());
+    m_Parent.resize(m_Runs.size());
+    std::iota(m_Parent.begin(), m_Parent.end(), std::size_t{ 0 });
+    for (std::size_t line = 0; line < lines; ++line)
+    {
+      const std::size_t j = line % size[1];
+      if (j > 0)
+      {
+        JoinOverlappingRuns(line - 1, line, size[0]);
+      }
+      if (line >= size[1])
+      {
+        JoinOverlappingRuns(line - size[1], line, size[0]);
+      }
+    }
+    for (std::size_t run = 0; run < m_Runs.size(); ++run)
+    {
+      Statistics &              entry = m_Statistics[m_Runs[run].label];
+      const std::size_t         line = m_Runs[run].start / size[0];
+      const std::array<long, 3> first{ { static_cast<long>(m_Runs[run].start % size[0]),
+                                         static_cast<long>(line % size[1]),
+                                         static_cast<long>(line / size[1]) } };
+      for (int axis = 0; axis < 3; ++axis)
+      {
+        entry.lowest[axis] = std::min(entry.lowest[axis], first[axis]);
+        entry.highest[axis] = std::max(entry.highest[axis], first[axis]);
+      }
+      entry.highest[0] = std::max(entry.highest[0], first[0] + static_cast<long>(m_Runs[run].length) - 1);
+      entry.voxels += m_Runs[run].length;
+      if (Find(run) == run)
+      {
+        ++entry.components;
+      }
+    }
+  }
+
+  const std::map<Label, Statistics> &
+  PerLabel() const
+  {
+    return m_Statistics;
+  }
+
+  /** Calls visit(label) once for each component none of whose voxels satisfies keeps(voxel offset). */
+  template <typename TKeeps, typename TVisit>
+  void
+  ForEachComponentLostWhole(TKeeps && keeps, TVisit && visit)
+  {
+    std::vector<bool> keepsAVoxel(m_Runs.size(), false);
+    for (std::size_t run = 0; run < m_Runs.size(); ++run)
+    {
+      for (std::size_t offset = m_Runs[run].start; offset < m_Runs[run].start + m_Runs[run].length; ++offset)
+      {
+        if (keeps(offset))
+        {
+          keepsAVoxel[Find(run)] = true;
+          break;
+        }
+      }
+    }
+    for (std::size_t run = 0; run < m_Runs.size(); ++run)
+    {
+      if (Find(run) == run && !keepsAVoxel[run])
+      {
+        visit(m_Runs[run].label);
+      }
+    }
+  }
+
+private:
+  struct Run
+  {
+    std::size_t start;
+    std::size_t length;
+    Label       label;
+  };
+
+  std::size_t
+  Find(std::size_t run)
+  {
+    while (m_Parent[run] != run)
+    {
+      m_Parent[run] = m_Parent[m_Parent[run]];
+      run = m_Parent[run];
+    }
+    return run;
+  }
+
+  /** Joins the runs of two neighbouring lines that share a label and overlap along x. */
+  void
+  JoinOverlappingRuns(std::size_t lineA, std::size_t lineB, std::size_t lineLength)
+  {
+    std::size_t       a = m_FirstRunOfLine[lineA];
+    std::size_t       b = m_FirstRunOfLine[lineB];
+    const std::size_t startA = lineA * lineLength;
+    const std::size_t startB = lineB * lineLength;
+    while (a < m_FirstRunOfLine[lineA + 1] && b < m_FirstRunOfLine[lineB + 1])
+    {
+      const std::size_t endA = m_Runs[a].start - startA + m_Runs[a].length;
+      const std::size_t endB = m_Runs[b].start - startB + m_Runs[b].length;
+      if (m_Runs[a].label == m_Runs[b].label)
+      {
+        const std::size_t rootA = Find(a);
+        const std::size_t rootB = Find(b);
+        m_Parent[std::max(rootA, rootB)] = std::min(rootA, rootB);
+      }
+      if (endA <= endB)
+      {
+        ++a;
+      }
+      if (endB <= endA)
+      {
+        ++b;
+      }
+    }
+  }
+
+  std::vector<Run>            m_Runs;
+  std::vector<std::size_t>    m_FirstRunOfLine;
+  std::vector<std::size_t>    m_Parent;
+  std::map<Label, Statistics> m_Statistics;
+};
+
 class LabelRegularizer
 {
 public:
@@ -203,28 +640,42 @@ public:
     LabelRegularizationReport report;
     report.radius = m_Radius;
     Checkpoint();
-    const std::map<Label, LabelStatistics> before = CountComponents();
-    if (m_Radius > 0.0 && m_NumberOfVoxels > 0)
-    {
-      std::vector<bool> survives(m_NumberOfVoxels, false);
-      for (const auto & [label, statistics] : before)
-      {
-        MarkOpening(label, statistics.bounds, survives);
-      }
-      report.changedVoxels = GiveRemovedVoxelsTheNearestSurvivorsLabel(survives, report);
-    }
-    const std::map<Label, LabelStatistics> after = CountComponents();
-    for (const auto & [label, statistics] : before)
+    LabelComponents before(m_Labels, m_Size);
+    for (const auto & [label, statistics] : before.PerLabel())
     {
       LabelRegularizationChange & change = ChangeOf(report, label);
-      change.voxelsBefore = statistics.voxels;
-      change.componentsBefore = statistics.components;
+      change.voxelsBefore = change.voxelsAfter = statistics.voxels;
+      change.componentsBefore = change.componentsAfter = statistics.components;
     }
-    for (const auto & [label, statistics] : after)
+    if (m_Radius <= 0.0 || m_NumberOfVoxels == 0)
     {
-      LabelRegularizationChange & change = ChangeOf(report, label);
-      change.voxelsAfter = statistics.voxels;
-      change.componentsAfter = statistics.components;
+      return report;
+    }
+    const std::vector<std::pair<std::size_t, Label>> changes = OpenEveryLabel(before.PerLabel());
+    if (changes.empty())
+    {
+      return report;
+    }
+    report.changedVoxels = changes.size();
+    std::vector<bool> changed(m_NumberOfVoxels, false);
+    for (const auto & [offset, label] : changes)
+    {
+      ++ChangeOf(report, m_Labels[offset]).voxelsRemoved;
+      ++ChangeOf(report, label).voxelsAdded;
+      changed[offset] = true;
+    }
+    before.ForEachComponentLostWhole([&changed](std::size_t offset) { return !changed[offset]; },
+                                     [&report](Label label) { ++ChangeOf(report, label).componentsRemoved; });
+    for (const auto & [offset, label] : changes)
+    {
+      m_Labels[offset] = label;
+    }
+    const LabelComponents after(m_Labels, m_Size);
+    for (auto & change : report.labels)
+    {
+      const auto found = after.PerLabel().find(change.label);
+      change.voxelsAfter = found == after.PerLabel().end() ? 0 : found->second.voxels;
+      change.componentsAfter = found == after.PerLabel().end() ? 0 : found->second.components;
     }
     return report;
   }
@@ -239,18 +690,6 @@ private:
       throw RefinementAborted("Label regularisation aborted by the progress observer");
     }
   }
-
-  struct LabelStatistics
-  {
-    std::size_t voxels{ 0 };
-    std::size_t components{ 0 };
-    /** The label's voxels' bounding box, in grid coordinates. */
-    std::array<long, 3> lowest{
-      { std::numeric_limits<long>::max(), std::numeric_limits<long>::max(), std::numeric_limits<long>::max() }
-    };
-    std::array<long, 3> highest{ { -1, -1, -1 } };
-    VoxelBox            bounds;
-  };
 
   static LabelRegularizationChange &
   ChangeOf(LabelRegularizationReport & report, Label label)
@@ -268,6 +707,224 @@ private:
     return *found;
   }
 
+  std::size_t
+  GridOffset(long i, long j, long k) const
+  {
+    return static_cast<std::size_t>(i) +
+           m_Size[0] * (static_cast<std::size_t>(j) + m_Size[1] * static_cast<std::size_t>(k));
+  }
+
+  bool
+  IsInGrid(long i, long j, long k) const
+  {
+    return i >= 0 && j >= 0 && k >= 0 && i < static_cast<long>(m_Size[0]) && j < static_cast<long>(m_Size[1]) &&
+           k < static_cast<long>(m_Size[2]);
+  }
+
+  /** The voxels of `label` in `box` (grid coordinates, reaching outside the grid, where everything is background). */
+  BoxBits
+  VoxelsOf(Label label, const VoxelBox & box) const
+  {
+    BoxBits voxels(box);
+    // Only the part of each row inside the grid can differ from the background.
+    const long firstInGrid = std::max(0L, -box.lower[0]);
+    const long lastInGrid = std::min(box.size[0], static_cast<long>(m_Size[0]) - box.lower[0]) - 1;
+    for (long z = 0; z < box.size[2]; ++z)
+    {
+      for (long y = 0; y < box.size[1]; ++y)
+      {
+        const long j = box.lower[1] + y;
+        const long k = box.lower[2] + z;
+        uint64_t * words = voxels.Row(y, z);
+        if (!IsInGrid(0, j, k) || firstInGrid > lastInGrid)
+        {
+          if (label == BackgroundLabel)
+          {
+            for (long x = 0; x < box.size[0]; ++x)
+            {
+              words[x >> 6] |= uint64_t{ 1 } << (x & 63);
+            }
+          }
+          continue;
+        }
+        if (label == BackgroundLabel)
+        {
+          for (long x = 0; x < box.size[0]; ++x)
+          {
+            if (x < firstInGrid || x > lastInGrid)
+            {
+              words[x >> 6] |= uint64_t{ 1 } << (x & 63);
+            }
+          }
+        }
+        const Label * row = m_Labels + GridOffset(box.lower[0] + firstInGrid, j, k);
+        for (long x = firstInGrid; x <= lastInGrid; ++x)
+        {
+          words[x >> 6] |= static_cast<uint64_t>(row[x - firstInGrid] == label) << (x & 63);
+        }
+      }
+    }
+    return voxels;
+  }
+
+  /** The voxels of the box outside `voxels` with a face neighbour in it. */
+  static BoxBits
+  OuterBoundary(const BoxBits & voxels)
+  {
+    const VoxelBox & box = voxels.Box();
+    BoxBits          boundary = voxels;
+    for (long z = 0; z < box.size[2]; ++z)
+    {
+      for (long y = 0; y < box.size[1]; ++y)
+      {
+        boundary.GrowRowAlongX(y, z);
+        uint64_t * target = boundary.Row(y, z);
+        for (const auto & [dy, dz] : { std::pair<long, long>{ -1, 0 }, { 1, 0 }, { 0, -1 }, { 0, 1 } })
+        {
+          if (y + dy >= 0 && y + dy < box.size[1] && z + dz >= 0 && z + dz < box.size[2])
+          {
+            const uint64_t * source = voxels.Row(y + dy, z + dz);
+            for (std::size_t word = 0; word < voxels.WordsPerRow(); ++word)
+            {
+              target[word] |= source[word];
+            }
+          }
+        }
+      }
+    }
+    boundary.Keep(voxels, true);
+    return boundary;
+  }
+
+  /** Opens every label with the ball and returns the voxels whose label changes (grid offset, new label). The
+   * nearest voxel of another label is always face-adjacent to a voxel of the first label (a step from it towards
+   * the first voxel comes closer), so a label's erosion removes its voxels within the reach of its outer boundary.
+   * Each label is opened in its bounding box with a margin of the dilation's reach; the background's box is the
+   * grid with that margin, since the grid's outside is background. */
+  std::vector<std::pair<std::size_t, Label>>
+  OpenEveryLabel(const std::map<Label, LabelComponents::Statistics> & labels) const
+  {
+    const std::vector<BallRow> erosionBall = BallRows(m_Reach, m_Spacing);
+    const std::vector<BallRow> dilationBall = BallRows(m_DilationReach, m_Spacing);
+    std::vector<bool>          removed(m_NumberOfVoxels, false);
+    std::vector<std::size_t>   removedVoxels;
+    for (const auto & [label, statistics] : labels)
+    {
+      Checkpoint();
+      VoxelBox box;
+      for (int axis = 0; axis < 3; ++axis)
+      {
+        const long margin = static_cast<long>(std::ceil(m_DilationReach / m_Spacing[axis])) + 1;
+        const long lowest = label == BackgroundLabel ? 0 : statistics.lowest[axis];
+        const long highest = label == BackgroundLabel ? static_cast<long>(m_Size[axis]) - 1 : statistics.highest[axis];
+        box.lower[axis] = lowest - margin;
+        box.size[axis] = highest - lowest + 1 + 2 * margin;
+      }
+      const BoxBits voxels = VoxelsOf(label, box);
+      BoxBits       eroded = DilateByBall(OuterBoundary(voxels), erosionBall);
+      eroded.Keep(voxels, false);
+      if (!eroded.Any())
+      {
+        continue;
+      }
+      BoxBits kept = voxels;
+      kept.Keep(eroded, true);
+      // The nearest survivor of the erosion has a face neighbour that is not one (as above): the dilation of its
+      // survivors next to another voxel is the dilation of all of them, outside them.
+      BoxBits notKept = kept;
+      notKept.Invert();
+      BoxBits lost = eroded;
+      lost.Keep(DilateByBall(OuterBoundary(notKept), dilationBall), true);
+      lost.ForEachSet([&](long x, long y, long z) {
+        const long i = box.lower[0] + x;
+        const long j = box.lower[1] + y;
+        const long k = box.lower[2] + z;
+        if (IsInGrid(i, j, k))
+        {
+          removed[GridOffset(i, j, k)] = true;
+          removedVoxels.push_back(GridOffset(i, j, k));
+        }
+      });
+    }
+    if (removedVoxels.empty())
+    {
+      return {};
+    }
+    std::sort(removedVoxels.begin(), removedVoxels.end());
+    return GiveRemovedVoxelsTheNearestSurvivorsLabel(removed, removedVoxels);
+  }
+
+  /** Every voxel of the grid that its opening removed takes the label of the nearest voxel of the grid that
+   * survived its own label's opening; it keeps its label when nothing survived. Returns the voxels whose label
+   * changes. Few removed voxels search the voxels around them, nearest first (a survivor is usually a few voxels
+   * away); many, or those with no survivor near, take a distance transform over a box around them. Either way the
+   * survivor is a nearest one; between survivors at exactly the same distance the choice is deterministic. */
+  std::vector<std::pair<std::size_t, Label>>
+  GiveRemovedVoxelsTheNearestSurvivorsLabel(const std::vector<bool> &        removed,
+                                            const std::vector<std::size_t> & removedVoxels) const
+  {
+    const double searchRadius = m_DilationReach + 2.0 * std::max({ m_Spacing[0], m_Spacing[1], m_Spacing[2] });
+    const std::vector<NeighbourOffset> nearestFirst = NeighbourOffsetsByDistance(
+      searchRadius, m_Spacing, { { 1, static_cast<long>(m_Size[0]), static_cast<long>(m_Size[0] * m_Size[1]) } });
+    std::vector<std::pair<std::size_t, Label>> changes;
+    const auto                                 takeLabelOf = [&](std::size_t voxel, std::size_t survivor) {
+      if (m_Labels[survivor] != m_Labels[voxel])
+      {
+        changes.emplace_back(voxel, m_Labels[survivor]);
+      }
+    };
+    std::vector<std::size_t> farFromSurvivors;
+    if (removedVoxels.size() * nearestFirst.size() > 4 * BoxAround(removedVoxels, searchRadius).NumberOfVoxels())
+    {
+      farFromSurvivors = removedVoxels;
+    }
+    else
+    {
+      std::size_t visited = 0;
+      for (const std::size_t voxel : removedVoxels)
+      {
+        if ((++visited & 0xffff) == 0)
+        {
+          Checkpoint();
+        }
+        const std::array<long, 3> at = CoordinatesOf(voxel);
+        const auto                nearest =
+          std::find_if(nearestFirst.begin(), nearestFirst.end(), [&](const NeighbourOffset & candidate) {
+            const long i = at[0] + candidate.delta[0];
+            const long j = at[1] + candidate.delta[1];
+            const long k = at[2] + candidate.delta[2];
+            return IsInGrid(i, j, k) && !removed[GridOffset(i, j, k)];
+          });
+        if (nearest == nearestFirst.end())
+        {
+          farFromSurvivors.push_back(voxel);
+          continue;
+        }
+        takeLabelOf(voxel, GridOffset(at[0] + nearest->delta[0], at[1] + nearest->delta[1], at[2] + nearest->delta[2]));
+      }
+    }
+    if (farFromSurvivors.empty())
+    {
+      return changes;
+    }
+    std::vector<std::pair<std::size_t, std::size_t>> nearest;
+    if (!NearestSurvivorsInBox(BoxAround(farFromSurvivors, searchRadius), farFromSurvivors, removed, nearest))
+    {
+      VoxelBox whole;
+      for (int axis = 0; axis < 3; ++axis)
+      {
+        whole.size[axis] = static_cast<long>(m_Size[axis]);
+      }
+      nearest.clear();
+      NearestSurvivorsInBox(whole, farFromSurvivors, removed, nearest);
+    }
+    for (const auto & [voxel, survivor] : nearest)
+    {
+      takeLabelOf(voxel, survivor);
+    }
+    return changes;
+  }
+
   std::array<long, 3>
   CoordinatesOf(std::size_t offset) const
   {
@@ -276,201 +933,85 @@ private:
                static_cast<long>(offset / (m_Size[0] * m_Size[1])) } };
   }
 
-  bool
-  IsInGrid(const std::array<long, 3> & coordinates) const
+  /** The bounding box of `voxels` with a margin of `margin` (physical), within the grid. */
+  VoxelBox
+  BoxAround(const std::vector<std::size_t> & voxels, double margin) const
   {
+    std::array<long, 3> lowest = CoordinatesOf(voxels.front());
+    std::array<long, 3> highest = lowest;
+    for (const std::size_t voxel : voxels)
+    {
+      const std::array<long, 3> at = CoordinatesOf(voxel);
+      for (int axis = 0; axis < 3; ++axis)
+      {
+        lowest[axis] = std::min(lowest[axis], at[axis]);
+        highest[axis] = std::max(highest[axis], at[axis]);
+      }
+    }
+    VoxelBox box;
     for (int axis = 0; axis < 3; ++axis)
     {
-      if (coordinates[axis] < 0 || coordinates[axis] >= static_cast<long>(m_Size[axis]))
-      {
-        return false;
-      }
+      const long voxelsOfMargin = static_cast<long>(std::ceil(margin / m_Spacing[axis])) + 1;
+      box.lower[axis] = std::max(0L, lowest[axis] - voxelsOfMargin);
+      box.size[axis] =
+        std::min(static_cast<long>(m_Size[axis]) - 1, highest[axis] + voxelsOfMargin) - box.lower[axis] + 1;
     }
-    return true;
+    return box;
   }
 
-  /** The label at grid coordinates that may lie outside the grid (background there). */
-  Label
-  LabelAt(const std::array<long, 3> & coordinates) const
+  /** The nearest survivor in `box` of each voxel, as (voxel, survivor) grid offsets; false when a survivor outside
+   * the box might be nearer to one of them than the one found. */
+  bool
+  NearestSurvivorsInBox(const VoxelBox & box, const std::vector<std::size_t> & voxels,
+                        const std::vector<bool> &                          removed,
+                        std::vector<std::pair<std::size_t, std::size_t>> & nearest) const
   {
-    return IsInGrid(coordinates) ? m_Labels[GridOffset(coordinates)] : BackgroundLabel;
-  }
-
-  /** Face-connected components, voxel counts and bounding boxes of every label, by union-find. */
-  std::map<Label, LabelStatistics>
-  CountComponents()
-  {
-    std::vector<std::size_t> parent(m_NumberOfVoxels);
-    std::iota(parent.begin(), parent.end(), std::size_t{ 0 });
-    const auto find = [&parent](std::size_t voxel) {
-      while (parent[voxel] != voxel)
-      {
-        parent[voxel] = parent[parent[voxel]];
-        voxel = parent[voxel];
-      }
-      return voxel;
-    };
-    const std::array<std::size_t, 3> strides{ { 1, m_Size[0], m_Size[0] * m_Size[1] } };
-    std::map<Label, LabelStatistics> statistics;
-    for (std::size_t offset = 0; offset < m_NumberOfVoxels; ++offset)
-    {
-      const std::array<long, 3> coordinates = CoordinatesOf(offset);
-      LabelStatistics &         entry = statistics[m_Labels[offset]];
-      ++entry.voxels;
-      for (int axis = 0; axis < 3; ++axis)
-      {
-        entry.lowest[axis] = std::min(entry.lowest[axis], coordinates[axis]);
-        entry.highest[axis] = std::max(entry.highest[axis], coordinates[axis]);
-        if (coordinates[axis] > 0 && m_Labels[offset - strides[axis]] == m_Labels[offset])
-        {
-          const std::size_t a = find(offset);
-          const std::size_t b = find(offset - strides[axis]);
-          parent[std::max(a, b)] = std::min(a, b);
-        }
-      }
-    }
-    for (std::size_t offset = 0; offset < m_NumberOfVoxels; ++offset)
-    {
-      if (find(offset) == offset)
-      {
-        ++statistics[m_Labels[offset]].components;
-      }
-    }
-    m_ComponentOf.resize(m_NumberOfVoxels);
-    for (std::size_t offset = 0; offset < m_NumberOfVoxels; ++offset)
-    {
-      m_ComponentOf[offset] = find(offset);
-    }
-    for (auto & [label, entry] : statistics)
-    {
-      // A margin of the erosion's reach (and one voxel): beyond it no voxel of another label can matter.
-      for (int axis = 0; axis < 3; ++axis)
-      {
-        const long margin = static_cast<long>(std::ceil(m_DilationReach / m_Spacing[axis])) + 1;
-        entry.bounds.lower[axis] = entry.lowest[axis] - margin;
-        entry.bounds.size[axis] = entry.highest[axis] - entry.lowest[axis] + 1 + 2 * margin;
-      }
-    }
-    return statistics;
-  }
-
-  /** Marks the voxels of `label` that its opening keeps: those within `radius` of a voxel whose nearest voxel of
-   * another label is farther than `radius`. */
-  void
-  MarkOpening(Label label, const VoxelBox & box, std::vector<bool> & survives) const
-  {
-    const double         squaredRadius = m_Reach * m_Reach;
-    NearestSiteTransform others(box, m_Spacing);
-    ForEachVoxel(box, [&](std::size_t index, const std::array<long, 3> & coordinates) {
-      if (LabelAt(coordinates) != label)
-      {
-        others.AddSite(index, 0);
-      }
-    });
-    others.Compute([this] { Checkpoint(); });
-    NearestSiteTransform eroded(box, m_Spacing);
-    bool                 anyEroded = false;
-    ForEachVoxel(box, [&](std::size_t index, const std::array<long, 3> & coordinates) {
-      if (LabelAt(coordinates) == label && others.SquaredDistance(index) > squaredRadius)
-      {
-        eroded.AddSite(index, 0);
-        anyEroded = true;
-      }
-    });
-    if (!anyEroded)
-    {
-      return;
-    }
-    eroded.Compute([this] { Checkpoint(); });
-    ForEachVoxel(box, [&](std::size_t index, const std::array<long, 3> & coordinates) {
-      if (IsInGrid(coordinates) && LabelAt(coordinates) == label &&
-          eroded.SquaredDistance(index) <= m_DilationReach * m_DilationReach)
-      {
-        survives[GridOffset(coordinates)] = true;
-      }
-    });
-  }
-
-  std::size_t
-  GridOffset(const std::array<long, 3> & coordinates) const
-  {
-    return static_cast<std::size_t>(coordinates[0]) +
-           m_Size[0] *
-             (static_cast<std::size_t>(coordinates[1]) + m_Size[1] * static_cast<std::size_t>(coordinates[2]));
-  }
-
-  /** Calls visit(index in box, grid coordinates) for every voxel of the box, in index order. */
-  template <typename TVisit>
-  static void
-  ForEachVoxel(const VoxelBox & box, TVisit && visit)
-  {
-    std::size_t index = 0;
+    Checkpoint();
+    NearestSiteTransform survivors(box, m_Spacing);
+    std::size_t          index = 0;
     for (long k = 0; k < box.size[2]; ++k)
     {
       for (long j = 0; j < box.size[1]; ++j)
       {
         for (long i = 0; i < box.size[0]; ++i, ++index)
         {
-          visit(index, std::array<long, 3>{ { box.lower[0] + i, box.lower[1] + j, box.lower[2] + k } });
+          const std::size_t offset = GridOffset(box.lower[0] + i, box.lower[1] + j, box.lower[2] + k);
+          if (!removed[offset])
+          {
+            survivors.AddSite(index, offset);
+          }
         }
       }
     }
-  }
-
-  /** Every voxel its opening removed takes the label of the nearest survivor. Returns how many changed. */
-  std::size_t
-  GiveRemovedVoxelsTheNearestSurvivorsLabel(const std::vector<bool> & survives, LabelRegularizationReport & report)
-  {
-    VoxelBox grid;
-    for (int axis = 0; axis < 3; ++axis)
-    {
-      grid.size[axis] = static_cast<long>(m_Size[axis]);
-    }
-    NearestSiteTransform survivors(grid, m_Spacing);
-    bool                 anySurvivor = false;
-    for (std::size_t offset = 0; offset < m_NumberOfVoxels; ++offset)
-    {
-      if (survives[offset])
-      {
-        survivors.AddSite(offset, offset);
-        anySurvivor = true;
-      }
-    }
-    if (!anySurvivor)
-    {
-      return 0;
-    }
     survivors.Compute([this] { Checkpoint(); });
-    std::vector<Label> result(m_Labels, m_Labels + m_NumberOfVoxels);
-    std::size_t        changed = 0;
-    // A component of the input removed whole has no voxel that kept its label.
-    std::vector<bool> componentKeepsAVoxel(m_NumberOfVoxels, false);
-    for (std::size_t offset = 0; offset < m_NumberOfVoxels; ++offset)
+    for (const std::size_t voxel : voxels)
     {
-      if (!survives[offset])
+      const std::array<long, 3> at = CoordinatesOf(voxel);
+      std::size_t               indexInBox = 0;
+      double                    toOutside = Infinity;
+      for (int axis = 2; axis >= 0; --axis)
       {
-        result[offset] = m_Labels[survivors.Site(offset)];
+        const long inBox = at[axis] - box.lower[axis];
+        indexInBox = indexInBox * static_cast<std::size_t>(box.size[axis]) + static_cast<std::size_t>(inBox);
+        if (box.lower[axis] > 0)
+        {
+          toOutside = std::min(toOutside, static_cast<double>(inBox + 1) * m_Spacing[axis]);
+        }
+        if (box.lower[axis] + box.size[axis] < static_cast<long>(m_Size[axis]))
+        {
+          toOutside = std::min(toOutside, static_cast<double>(box.size[axis] - inBox) * m_Spacing[axis]);
+        }
       }
-      if (result[offset] != m_Labels[offset])
+      if (toOutside != Infinity && !(survivors.SquaredDistance(indexInBox) <= toOutside * toOutside))
       {
-        ++changed;
-        ++ChangeOf(report, m_Labels[offset]).voxelsRemoved;
-        ++ChangeOf(report, result[offset]).voxelsAdded;
+        return false;
       }
-      else
+      if (survivors.Site(indexInBox) != NoSite)
       {
-        componentKeepsAVoxel[m_ComponentOf[offset]] = true;
+        nearest.emplace_back(voxel, survivors.Site(indexInBox));
       }
     }
-    for (std::size_t offset = 0; offset < m_NumberOfVoxels; ++offset)
-    {
-      if (m_ComponentOf[offset] == offset && !componentKeepsAVoxel[offset])
-      {
-        ++ChangeOf(report, m_Labels[offset]).componentsRemoved;
-      }
-    }
-    std::copy(result.begin(), result.end(), m_Labels);
-    return changed;
+    return true;
   }
 
   Label *                       m_Labels;
@@ -481,10 +1022,7 @@ private:
   double                        m_Reach;
   double                        m_DilationReach;
   std::size_t                   m_NumberOfVoxels;
-  /** The root voxel of each voxel's face-connected component, from the last CountComponents(). */
-  std::vector<std::size_t> m_ComponentOf;
 };
-
 } // namespace
 
 LabelRegularizationReport
