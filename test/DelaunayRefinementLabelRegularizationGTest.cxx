@@ -1,0 +1,335 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+
+// RegularizeLabels against its definition, computed by brute force on small random grids: a voxel survives its
+// label's erosion when every voxel of another label (the grid's outside is background) is farther than
+// r + h/2, survives the dilation when a survivor of the erosion of its own label is within r + h, and every voxel
+// that did not survive takes the label of a nearest surviving voxel of the grid. The grids are wider than a
+// machine word along x and anisotropic, and their labels touch the grid's faces.
+
+#include "DelaunayRefinementLabelRegularization.h"
+#include "DelaunayRefinementMesher.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <set>
+#include <sstream>
+#include <vector>
+
+namespace delaunay_refinement
+{
+namespace
+{
+
+using Size = std::array<std::size_t, 3>;
+
+struct Grid
+{
+  Size               size;
+  Vector3            spacing;
+  std::vector<Label> labels;
+
+  Label
+  At(long i, long j, long k) const
+  {
+    if (i < 0 || j < 0 || k < 0 || i >= static_cast<long>(size[0]) || j >= static_cast<long>(size[1]) ||
+        k >= static_cast<long>(size[2]))
+    {
+      return BackgroundLabel;
+    }
+    return labels[static_cast<std::size_t>(i) +
+                  size[0] * (static_cast<std::size_t>(j) + size[1] * static_cast<std::size_t>(k))];
+  }
+
+  double
+  SquaredDistance(long di, long dj, long dk) const
+  {
+    const double x = static_cast<double>(di) * spacing[0];
+    const double y = static_cast<double>(dj) * spacing[1];
+    const double z = static_cast<double>(dk) * spacing[2];
+    return x * x + y * y + z * z;
+  }
+};
+
+/** Blobs of a few labels, speckle and thin sheets, some touching the grid's faces. */
+Grid
+RandomGrid(std::mt19937 & random, const Size & size, const Vector3 & spacing)
+{
+  Grid grid{ size, spacing, std::vector<Label>(size[0] * size[1] * size[2], BackgroundLabel) };
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const auto                             set = [&](long i, long j, long k, Label label) {
+    if (i >= 0 && j >= 0 && k >= 0 && i < static_cast<long>(size[0]) && j < static_cast<long>(size[1]) &&
+        k < static_cast<long>(size[2]))
+    {
+      grid.labels[static_cast<std::size_t>(i) +
+                  size[0] * (static_cast<std::size_t>(j) + size[1] * static_cast<std::size_t>(k))] = label;
+    }
+  };
+  for (int blob = 0; blob < 12; ++blob)
+  {
+    const Label  label = 1 + static_cast<Label>(random() % 3);
+    const double ci = unit(random) * static_cast<double>(size[0]);
+    const double cj = unit(random) * static_cast<double>(size[1]);
+    const double ck = unit(random) * static_cast<double>(size[2]);
+    const double radius = 0.5 + 3.0 * unit(random);
+    for (long k = 0; k < static_cast<long>(size[2]); ++k)
+    {
+      for (long j = 0; j < static_cast<long>(size[1]); ++j)
+      {
+        for (long i = 0; i < static_cast<long>(size[0]); ++i)
+        {
+          const double x = (i - ci) * spacing[0];
+          const double y = (j - cj) * spacing[1];
+          const double z = (k - ck) * spacing[2];
+          if (x * x + y * y + z * z <= radius * radius)
+          {
+            set(i, j, k, label);
+          }
+        }
+      }
+    }
+  }
+  // A one-voxel sheet and speckle of every label, the background included.
+  const long sheet = static_cast<long>(random() % size[0]);
+  for (long k = 0; k < static_cast<long>(size[2]); ++k)
+  {
+    for (long j = 0; j < static_cast<long>(size[1]); ++j)
+    {
+      set(sheet, j, k, 2);
+    }
+  }
+  for (int speck = 0; speck < 40; ++speck)
+  {
+    set(static_cast<long>(random() % size[0]),
+        static_cast<long>(random() % size[1]),
+        static_cast<long>(random() % size[2]),
+        static_cast<Label>(random() % 4));
+  }
+  return grid;
+}
+
+/** The labels each voxel may take by the definition: its own where it survives, else those of its nearest
+ * survivors (its own too when no voxel survives). */
+std::vector<std::set<Label>>
+AllowedLabels(const Grid & grid, double radius)
+{
+  const double        hmin = std::min({ grid.spacing[0], grid.spacing[1], grid.spacing[2] });
+  const double        reach = radius + 0.5 * hmin;
+  const double        dilationReach = radius + hmin;
+  std::array<long, 3> window{};
+  std::array<long, 3> padding{};
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    window[axis] = static_cast<long>(std::ceil(dilationReach / grid.spacing[axis])) + 1;
+    padding[axis] = 2 * window[axis];
+  }
+  // Whether each voxel of the grid with its padding survives its label's erosion.
+  const auto inPadded = [&](long i, long j, long k) {
+    return i >= -padding[0] && j >= -padding[1] && k >= -padding[2] &&
+           i < static_cast<long>(grid.size[0]) + padding[0] && j < static_cast<long>(grid.size[1]) + padding[1] &&
+           k < static_cast<long>(grid.size[2]) + padding[2];
+  };
+  const auto paddedIndex = [&](long i, long j, long k) {
+    const long width = static_cast<long>(grid.size[0]) + 2 * padding[0];
+    const long height = static_cast<long>(grid.size[1]) + 2 * padding[1];
+    return static_cast<std::size_t>((i + padding[0]) + width * ((j + padding[1]) + height * (k + padding[2])));
+  };
+  const std::size_t paddedVoxels = static_cast<std::size_t>(
+    (grid.size[0] + 2 * padding[0]) * (grid.size[1] + 2 * padding[1]) * (grid.size[2] + 2 * padding[2]));
+  std::vector<bool> keptByErosion(paddedVoxels, true);
+  for (long k = -padding[2]; k < static_cast<long>(grid.size[2]) + padding[2]; ++k)
+  {
+    for (long j = -padding[1]; j < static_cast<long>(grid.size[1]) + padding[1]; ++j)
+    {
+      for (long i = -padding[0]; i < static_cast<long>(grid.size[0]) + padding[0]; ++i)
+      {
+        const Label label = grid.At(i, j, k);
+        for (long dk = -window[2]; dk <= window[2]; ++dk)
+        {
+          for (long dj = -window[1]; dj <= window[1]; ++dj)
+          {
+            for (long di = -window[0]; di <= window[0]; ++di)
+            {
+              if (grid.At(i + di, j + dj, k + dk) != label && grid.SquaredDistance(di, dj, dk) <= reach * reach)
+              {
+                keptByErosion[paddedIndex(i, j, k)] = false;
+              }
+            }
+          }
+        }
+      }
+    }
+  }
+  const auto survives = [&](long i, long j, long k) {
+    if (keptByErosion[paddedIndex(i, j, k)])
+    {
+      return true;
+    }
+    const Label label = grid.At(i, j, k);
+    for (long dk = -window[2]; dk <= window[2]; ++dk)
+    {
+      for (long dj = -window[1]; dj <= window[1]; ++dj)
+      {
+        for (long di = -window[0]; di <= window[0]; ++di)
+        {
+          if (inPadded(i + di, j + dj, k + dk) && grid.At(i + di, j + dj, k + dk) == label &&
+              keptByErosion[paddedIndex(i + di, j + dj, k + dk)] &&
+              grid.SquaredDistance(di, dj, dk) <= dilationReach * dilationReach)
+          {
+            return true;
+          }
+        }
+      }
+    }
+    return false;
+  };
+  std::vector<std::array<long, 3>> survivors;
+  std::vector<std::array<long, 3>> removed;
+  for (long k = 0; k < static_cast<long>(grid.size[2]); ++k)
+  {
+    for (long j = 0; j < static_cast<long>(grid.size[1]); ++j)
+    {
+      for (long i = 0; i < static_cast<long>(grid.size[0]); ++i)
+      {
+        (survives(i, j, k) ? survivors : removed).push_back({ { i, j, k } });
+      }
+    }
+  }
+  std::vector<std::set<Label>> allowed(grid.labels.size());
+  for (std::size_t voxel = 0; voxel < grid.labels.size(); ++voxel)
+  {
+    allowed[voxel].insert(grid.labels[voxel]);
+  }
+  for (const auto & voxel : removed)
+  {
+    const std::size_t index =
+      static_cast<std::size_t>(voxel[0]) +
+      grid.size[0] * (static_cast<std::size_t>(voxel[1]) + grid.size[1] * static_cast<std::size_t>(voxel[2]));
+    if (survivors.empty())
+    {
+      continue;
+    }
+    allowed[index].clear();
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const auto & survivor : survivors)
+    {
+      const double distance =
+        grid.SquaredDistance(survivor[0] - voxel[0], survivor[1] - voxel[1], survivor[2] - voxel[2]);
+      if (distance < nearest)
+      {
+        nearest = distance;
+        allowed[index].clear();
+      }
+      if (distance == nearest)
+      {
+        allowed[index].insert(grid.At(survivor[0], survivor[1], survivor[2]));
+      }
+    }
+  }
+  return allowed;
+}
+
+struct RegularizationCase
+{
+  Size    size;
+  Vector3 spacing;
+};
+
+class LabelRegularizationAgainstDefinition : public ::testing::TestWithParam<RegularizationCase>
+{};
+
+TEST_P(LabelRegularizationAgainstDefinition, EveryVoxelTakesTheLabelTheDefinitionAllows)
+{
+  const RegularizationCase parameters = GetParam();
+  std::mt19937             random(20261124);
+  const double             hmin = std::min({ parameters.spacing[0], parameters.spacing[1], parameters.spacing[2] });
+  std::size_t              changedInAll = 0;
+  for (int trial = 0; trial < 3; ++trial)
+  {
+    const Grid grid = RandomGrid(random, parameters.size, parameters.spacing);
+    for (const double radius : { 0.4 * hmin, 1.0 * hmin, 1.7 * hmin, 2.6 * hmin })
+    {
+      std::vector<Label>                 labels = grid.labels;
+      const LabelRegularizationReport    report = RegularizeLabels(labels.data(), grid.size, grid.spacing, radius);
+      const std::vector<std::set<Label>> allowed = AllowedLabels(grid, radius);
+      std::size_t                        changed = 0;
+      std::size_t                        wrong = 0;
+      std::ostringstream                 firstWrong;
+      for (std::size_t voxel = 0; voxel < labels.size(); ++voxel)
+      {
+        changed += labels[voxel] != grid.labels[voxel] ? 1 : 0;
+        if (allowed[voxel].count(labels[voxel]) == 0)
+        {
+          if (wrong++ == 0)
+          {
+            firstWrong << "voxel " << voxel << " was " << grid.labels[voxel] << ", became " << labels[voxel];
+          }
+        }
+      }
+      EXPECT_EQ(wrong, 0U) << "trial " << trial << ", radius " << radius << ": " << firstWrong.str();
+      EXPECT_EQ(report.changedVoxels, changed) << "trial " << trial << ", radius " << radius;
+      std::size_t removedInReport = 0;
+      std::size_t addedInReport = 0;
+      for (const LabelRegularizationChange & change : report.labels)
+      {
+        removedInReport += change.voxelsRemoved;
+        addedInReport += change.voxelsAdded;
+        const std::size_t after = static_cast<std::size_t>(std::count(labels.begin(), labels.end(), change.label));
+        EXPECT_EQ(change.voxelsAfter, after) << "label " << change.label;
+        EXPECT_EQ(change.voxelsBefore + change.voxelsAdded - change.voxelsRemoved, after) << "label " << change.label;
+      }
+      EXPECT_EQ(removedInReport, changed);
+      EXPECT_EQ(addedInReport, changed);
+      changedInAll += changed;
+    }
+  }
+  // The grids are made to have parts thinner than the radii: a regularisation that changes nothing fails here.
+  EXPECT_GT(changedInAll, 0U);
+}
+
+INSTANTIATE_TEST_SUITE_P(Grids, LabelRegularizationAgainstDefinition,
+                         ::testing::Values(RegularizationCase{ { { 70, 9, 7 } }, { { 1.0, 1.0, 1.0 } } },
+                                           RegularizationCase{ { { 66, 8, 9 } }, { { 0.7, 1.1, 1.9 } } },
+                                           RegularizationCase{ { { 129, 6, 5 } }, { { 1.3, 0.9, 0.6 } } }));
+
+TEST(LabelRegularization, ZeroRadiusChangesNothing)
+{
+  std::mt19937                    random(7);
+  const Grid                      grid = RandomGrid(random, { { 40, 6, 6 } }, { { 1.0, 1.0, 1.0 } });
+  std::vector<Label>              labels = grid.labels;
+  const LabelRegularizationReport report = RegularizeLabels(labels.data(), grid.size, grid.spacing, 0.0);
+  EXPECT_EQ(labels, grid.labels);
+  EXPECT_EQ(report.changedVoxels, 0U);
+}
+
+TEST(LabelRegularization, AbortLeavesTheLabelsAsTheyWere)
+{
+  std::mt19937       random(11);
+  const Grid         grid = RandomGrid(random, { { 40, 6, 6 } }, { { 1.0, 1.0, 1.0 } });
+  std::vector<Label> labels = grid.labels;
+  EXPECT_THROW(RegularizeLabels(labels.data(), grid.size, grid.spacing, 1.5, [] { return false; }), RefinementAborted);
+  EXPECT_EQ(labels, grid.labels);
+}
+
+} // namespace
+} // namespace delaunay_refinement
