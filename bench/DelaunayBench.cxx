@@ -24,6 +24,7 @@
 #include "DelaunayBenchImages.h"
 #include "DelaunayBenchMeshers.h"
 #include "DelaunayImageToMeshQualityReport.h"
+#include "DelaunayImageToMeshWriters.h"
 #include "DelaunayRefinementMeshQuality.h"
 #include "DelaunayRefinementMesher.h"
 
@@ -61,6 +62,8 @@ struct Options
   /** Empty = each image's own list. */
   std::vector<double> deltas;
   std::string         dataDirectory{ DefaultDataDirectory };
+  /** Empty = the meshes are not written. */
+  std::string meshDirectory;
 };
 
 /** Parses the command line into `options` (CLI11); nullopt when it was parsed, else the exit code after --help or
@@ -86,6 +89,12 @@ ParseOptions(int argc, char * argv[], Options & options)
     ->delimiter(',');
   app.add_flag("--ours-only", options.oursOnly, "run our filter only (for profiling)");
   app.add_option("--data-dir", options.dataDirectory, "where ITK's example images are")->capture_default_str();
+  app
+    .add_option("--write-meshes",
+                options.meshDirectory,
+                "write every mesh to this existing directory as IMAGE_DELTA_MESHER.vtu\n(for "
+                "bench/downstream.py)")
+    ->check(CLI::ExistingDirectory);
   try
   {
     app.parse(argc, argv);
@@ -441,6 +450,20 @@ RequireKnownImageNames(const std::vector<BenchImage> & images, const Options & o
   }
 }
 
+/** The case's meshes as `directory`/IMAGE_DELTA_MESHER.vtu, MESHER one of ours, cgal, cgal-optimized: what
+ * bench/downstream.py solves on. */
+void
+WriteCaseMeshes(const BenchCase & c, bool oursOnly, const std::string & directory)
+{
+  const std::string prefix = directory + "/" + c.image + "_" + Format(c.delta, 1) + "_";
+  dr::WriteTetrahedralMesh(c.ours.mesh, prefix + "ours.vtu");
+  if (!oursOnly)
+  {
+    dr::WriteTetrahedralMesh(c.cgal.mesh, prefix + "cgal.vtu");
+    dr::WriteTetrahedralMesh(c.cgalOptimized.mesh, prefix + "cgal-optimized.vtu");
+  }
+}
+
 int
 RunBenchmark(const Options & options)
 {
@@ -466,6 +489,10 @@ RunBenchmark(const Options & options)
     for (const double delta : options.deltas.empty() ? benchImage.deltas : options.deltas)
     {
       cases.push_back(RunCase(benchImage, delta, options, volume, marchingCubes));
+      if (!options.meshDirectory.empty())
+      {
+        WriteCaseMeshes(cases.back(), options.oursOnly, options.meshDirectory);
+      }
     }
   }
   std::cout << "\nrho = 2, nearest-neighbour oracle; CGAL: facet_angle 30, facet_size " << FacetSizePerDelta

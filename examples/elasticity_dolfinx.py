@@ -63,6 +63,25 @@ def read_tetrahedra(path):
     return data.points.astype(np.float64), tetrahedra.astype(np.int64), labels.astype(np.int32)
 
 
+def minimum_dihedral_angle(points, tetrahedra):
+    """The smallest dihedral angle of the tetrahedra, degrees: near 0, a flat "sliver" whose gradients (strains,
+    stresses) are unreliable and which can slow the solver down."""
+    corners = points[tetrahedra]
+    smallest = 180.0
+    for i, j in ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)):
+        k, m = [c for c in range(4) if c not in (i, j)]
+        edge = corners[:, j] - corners[:, i]
+        edge /= np.linalg.norm(edge, axis=1)[:, None]
+        # The dihedral angle at edge ij: the angle between the other two corners' offsets, projected off the edge.
+        first = corners[:, k] - corners[:, i]
+        second = corners[:, m] - corners[:, i]
+        first -= np.sum(first * edge, axis=1)[:, None] * edge
+        second -= np.sum(second * edge, axis=1)[:, None] * edge
+        cosine = np.sum(first * second, axis=1) / (np.linalg.norm(first, axis=1) * np.linalg.norm(second, axis=1))
+        smallest = min(smallest, float(np.degrees(np.arccos(np.clip(cosine, -1.0, 1.0))).min()))
+    return smallest
+
+
 def create_dolfinx_mesh(points, tetrahedra, labels):
     """A DOLFINx mesh of P1 tetrahedra, and the labels in DOLFINx's cell order (create_mesh reorders the cells)."""
     domain = ufl.Mesh(ufl.VectorElement("Lagrange", ufl.tetrahedron, 1))
@@ -85,19 +104,20 @@ def stress(u, young, poisson):
     return 2.0 * mu * strain + lmbda * ufl.tr(strain) * ufl.Identity(len(u))
 
 
-def solve_elasticity(msh, young, poisson, dirichlet, traction_terms, rtol=1e-10):
-    """Solves -div sigma(u) = 0 with P1 elements.
+def solve_elasticity(msh, young, poisson, dirichlet, loads, rtol=1e-10):
+    """Solves linear elasticity, -div sigma(u) = f, with P1 elements.
 
     dirichlet: (facets, value) pairs, value a constant 3-vector or a function of the points (a 3 x n array)
     that returns their displacements (3 x n);
-    traction_terms: (measure, traction) pairs, e.g. (ds(1), -p n). Returns the displacement, the number of
-    conjugate-gradient iterations (Jacobi preconditioner) and PETSc's estimate of the preconditioned operator's
-    condition number (extreme singular values from the Lanczos process of CG)."""
+    loads: (measure, vector) pairs, a traction on part of the boundary, e.g. (ds(1), -p n), or a body force f,
+    e.g. (dx, rho g). Returns the displacement, the number of conjugate-gradient iterations (Jacobi
+    preconditioner) and PETSc's estimate of the preconditioned operator's condition number (extreme singular
+    values from the Lanczos process of CG)."""
     V = fem.VectorFunctionSpace(msh, ("Lagrange", 1))
     u, v = ufl.TrialFunction(V), ufl.TestFunction(V)
     bilinear = fem.form(ufl.inner(stress(u, young, poisson), ufl.sym(ufl.grad(v))) * ufl.dx)
     zero = fem.Constant(msh, PETSc.ScalarType((0.0, 0.0, 0.0)))
-    linear = fem.form(sum((ufl.dot(t, v) * measure for measure, t in traction_terms), ufl.dot(zero, v) * ufl.dx))
+    linear = fem.form(sum((ufl.dot(load, v) * measure for measure, load in loads), ufl.dot(zero, v) * ufl.dx))
 
     bcs = []
     for facets, value in dirichlet:
@@ -162,7 +182,7 @@ def main(program, output_directory, image=None):
     bottom = mesh.locate_entities_boundary(msh, 2, lambda x: np.isclose(x[2], z.min()))
     top = mesh.locate_entities_boundary(msh, 2, lambda x: np.isclose(x[2], z.max()))
     u, iterations, condition = solve_elasticity(
-        msh, young, poisson, dirichlet=[(bottom, (0.0, 0.0, 0.0)), (top, (0.0, 0.0, -1.0))], traction_terms=[]
+        msh, young, poisson, dirichlet=[(bottom, (0.0, 0.0, 0.0)), (top, (0.0, 0.0, -1.0))], loads=[]
     )
 
     # Von Mises stress per tetrahedron, for the picture.
@@ -185,7 +205,8 @@ def main(program, output_directory, image=None):
     mean_strain = {label: fem.assemble_scalar(fem.form(ufl.sqrt(ufl.inner(strain, strain)) * dx(label)))
                    / fem.assemble_scalar(fem.form(one * dx(label))) for label in young_by_label}
 
-    print(f"{len(points)} points, {len(tetrahedra)} tetrahedra; CG + Jacobi: {iterations} iterations, condition "
+    print(f"{len(points)} points, {len(tetrahedra)} tetrahedra (smallest dihedral angle "
+          f"{minimum_dihedral_angle(points, tetrahedra):.2f} deg); CG + Jacobi: {iterations} iterations, condition "
           f"estimate {condition:.0f}; mean strain magnitude per label: "
           + ", ".join(f"{label}: {value:.4f}" for label, value in mean_strain.items())
           + f"; results in {output_directory}")

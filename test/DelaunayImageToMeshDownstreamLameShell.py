@@ -103,24 +103,6 @@ def lame_coefficients():
     return a, b
 
 
-def minimum_dihedral_angle(points, tetrahedra):
-    """The smallest dihedral angle of the mesh, degrees."""
-    corners = points[tetrahedra]
-    smallest = 180.0
-    for i, j in ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)):
-        k, m = [c for c in range(4) if c not in (i, j)]
-        edge = corners[:, j] - corners[:, i]
-        edge /= np.linalg.norm(edge, axis=1)[:, None]
-        # Normals of the two faces that share edge ij, each projected off the edge.
-        first = corners[:, k] - corners[:, i]
-        second = corners[:, m] - corners[:, i]
-        first -= np.sum(first * edge, axis=1)[:, None] * edge
-        second -= np.sum(second * edge, axis=1)[:, None] * edge
-        cosine = np.sum(first * second, axis=1) / (np.linalg.norm(first, axis=1) * np.linalg.norm(second, axis=1))
-        smallest = min(smallest, float(np.degrees(np.arccos(np.clip(cosine, -1.0, 1.0))).min()))
-    return smallest
-
-
 def solve_shell(mesh_path):
     """The FEM solve on one mesh: errors, solver figures and the size of the mesh."""
     points, tetrahedra, labels = example.read_tetrahedra(mesh_path)
@@ -144,7 +126,7 @@ def solve_shell(mesh_path):
 
     young = fem.Constant(msh, YOUNG)
     solve = lambda traction: example.solve_elasticity(  # noqa: E731
-        msh, young, POISSON, dirichlet=[(outer, exact_displacement)], traction_terms=[(ds(1), traction)]
+        msh, young, POISSON, dirichlet=[(outer, exact_displacement)], loads=[(ds(1), traction)]
     )
     start = time.time()
     u, iterations, condition = solve(-PRESSURE * normal)
@@ -161,7 +143,7 @@ def solve_shell(mesh_path):
         "tetrahedra": len(tetrahedra),
         "vertices": len(points),
         "h_mm": (volume / len(tetrahedra)) ** (1.0 / 3.0),
-        "min_dihedral_deg": minimum_dihedral_angle(points, tetrahedra),
+        "min_dihedral_deg": example.minimum_dihedral_angle(points, tetrahedra),
         "l2_error": norm(ufl.dot(u - exact, u - exact), 6) / exact_l2,
         "h1_error": norm(ufl.inner(ufl.grad(u - exact), ufl.grad(u - exact)), 4) / exact_h1,
         "geometry_l2": norm(ufl.dot(u - u_consistent, u - u_consistent), 2) / exact_l2,
