@@ -4,11 +4,13 @@
     /usr/bin/python3 examples/elasticity_dolfinx.py build/bin/delaunay-image-to-mesh OUTPUT_DIRECTORY [IMAGE]
 
 1. IMAGE, a 3-D label image (label 1 = soft tissue, label 2 = stiff inclusion), or without it a generated one: a
-   40 x 40 x 20 mm block of soft tissue holding a ball of radius 6 mm.
+   40 x 40 x 20 mm block of soft tissue holding a ball of radius 6 mm. Other labels need a Young's modulus in
+   main()'s young_by_label.
 2. delaunay-image-to-mesh meshes it (tetrahedra with their label as cell data, .vtu).
 3. meshio reads the .vtu; dolfinx.mesh.create_mesh() builds the mesh from the NumPy arrays.
 4. Each tetrahedron's label becomes its Young's modulus (a piecewise-constant "DG0" function).
-5. Linear elasticity, P1 elements: the block's bottom face is clamped, its top face pushed down by 1 mm.
+5. Linear elasticity, P1 elements: the boundary facets in the lowest plane (the block's bottom face) are clamped,
+   those in the highest plane (its top face) pushed down by 1 mm.
    PETSc's conjugate gradients with a Jacobi preconditioner solve it.
 6. OUTPUT_DIRECTORY/displacement.xdmf holds the displacement and the von Mises stress (ParaView opens it); the
    mean strain of each tissue is printed (the labels tag the cells for integration too).
@@ -39,8 +41,8 @@ def write_metaimage(path, labels, spacing, origin):
     header = (
         "ObjectType = Image\nNDims = 3\nBinaryData = True\nBinaryDataByteOrderMSB = False\n"
         f"DimSize = {labels.shape[2]} {labels.shape[1]} {labels.shape[0]}\n"
-        f"ElementSpacing = {spacing[0]!r} {spacing[1]!r} {spacing[2]!r}\n"
-        f"Offset = {origin[0]!r} {origin[1]!r} {origin[2]!r}\n"
+        "ElementSpacing = " + " ".join(repr(float(value)) for value in spacing) + "\n"
+        "Offset = " + " ".join(repr(float(value)) for value in origin) + "\n"
         "ElementType = MET_UCHAR\nElementDataFile = LOCAL\n"
     )
     with open(path, "wb") as stream:
