@@ -33,12 +33,14 @@ include(CTest)
 
 add_subdirectory(src)
 
+# The benchmark against CGAL Mesh_3 (bench/README.md); the sanitizer build leaves it out. Declared before test/,
+# whose downstream FEM test also meshes with CGAL through bench/'s delaunay-bench-cgal-mesh.
+option(DelaunayImageToMesh_BUILD_BENCHMARK "Build delaunay-bench" ON)
+
 if(BUILD_TESTING)
   add_subdirectory(test)
 endif()
 add_subdirectory(examples)
-# The benchmark against CGAL Mesh_3 (bench/README.md); the sanitizer build leaves it out.
-option(DelaunayImageToMesh_BUILD_BENCHMARK "Build delaunay-bench" ON)
 if(DelaunayImageToMesh_BUILD_BENCHMARK AND EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/bench/CMakeLists.txt)
   add_subdirectory(bench)
 endif()

@@ -20,9 +20,11 @@
 // fidelity, with every quality measure computed by the module's own code for both (issue #6, bench/README.md).
 
 #include "DelaunayBenchChildProcess.h"
+#include "DelaunayBenchFacetDistance.h"
 #include "DelaunayBenchImages.h"
 #include "DelaunayBenchMeshers.h"
 #include "DelaunayImageToMeshQualityReport.h"
+#include "DelaunayImageToMeshWriters.h"
 #include "DelaunayRefinementMeshQuality.h"
 #include "DelaunayRefinementMesher.h"
 
@@ -48,15 +50,6 @@ namespace
 using namespace delaunay_bench;
 namespace dr = delaunay_refinement;
 
-/** CGAL's facet_size bounds the radius of surface Delaunay balls, which is exactly what our rule R3 bounds by δ. */
-constexpr double FacetSizePerDelta = 1.0;
-/** Our rules bound no interior size (only the radius-edge ratio, which grades the mesh); CGAL's cell_size is
- * set loose enough not to bind before its radius-edge criterion does on these images (bench/README.md). */
-constexpr double CellSizePerDelta = 8.0;
-/** Fidelity counts as matched when CGAL's mean two-sided distance is within this fraction of ours. */
-constexpr double FidelityTolerance = 0.1;
-constexpr int    MaximumFacetDistanceTrials = 8;
-
 const char * const DefaultDataDirectory = "/usr/share/doc/insighttoolkit5-examples/examples/Data";
 
 struct Options
@@ -69,6 +62,8 @@ struct Options
   /** Empty = each image's own list. */
   std::vector<double> deltas;
   std::string         dataDirectory{ DefaultDataDirectory };
+  /** Empty = the meshes are not written. */
+  std::string meshDirectory;
 };
 
 /** Parses the command line into `options` (CLI11); nullopt when it was parsed, else the exit code after --help or
@@ -94,6 +89,12 @@ ParseOptions(int argc, char * argv[], Options & options)
     ->delimiter(',');
   app.add_flag("--ours-only", options.oursOnly, "run our filter only (for profiling)");
   app.add_option("--data-dir", options.dataDirectory, "where ITK's example images are")->capture_default_str();
+  app
+    .add_option("--write-meshes",
+                options.meshDirectory,
+                "write every mesh to this existing directory as IMAGE_DELTA_MESHER.vtu\n(for "
+                "bench/downstream.py)")
+    ->check(CLI::ExistingDirectory);
   try
   {
     app.parse(argc, argv);
@@ -203,77 +204,6 @@ private:
   bool                          m_QualityComputed{ false };
 };
 
-/** ComputeQualityReport()'s mean distance to the marching-cubes surface, with that surface computed once. */
-double
-MeanTwoSidedDistance(const dr::TetrahedralMesh & mesh, const dr::TriangleSurface & marchingCubes, double sampleSpacing)
-{
-  return dr::ComputeTwoSidedDistance(
-           mesh.points, mesh.boundaryTriangles, marchingCubes.points, marchingCubes.triangles, sampleSpacing)
-    .combined.mean;
-}
-
-/** The facet_distance that gives CGAL our mean distance to the marching-cubes surface, and whether it does. */
-struct FacetDistanceMatch
-{
-  /** 0 = CGAL's facet_distance criterion off. */
-  double facetDistance{ 0.0 };
-  double cgalMeanDistance{ 0.0 };
-  bool   matched{ false };
-  int    trials{ 0 };
-};
-
-bool
-IsWithinTolerance(double value, double target)
-{
-  return std::abs(value - target) <= FidelityTolerance * target;
-}
-
-/** facet_distance off first: it is CGAL's loosest surface, and if even that is closer than ours nothing can
- * match. Then the bound is halved from δ/2 until CGAL is closer than we are, and the last bracket bisected in
- * log scale: CGAL's mean distance grows with the bound, and tight bounds are the expensive trials, so the search
- * comes from the loose side. */
-FacetDistanceMatch
-MatchFacetDistance(const LabelImage & image, double delta, const dr::QualityReport & ours,
-                   const dr::TriangleSurface & marchingCubes)
-{
-  const double       targetMean = ours.distanceToMarchingCubes.mean;
-  FacetDistanceMatch best;
-  double             bestError = std::numeric_limits<double>::infinity();
-  const auto         trial = [&](double facetDistance) {
-    const CgalCriteria criteria{ FacetSizePerDelta * delta, facetDistance, CellSizePerDelta * delta, false };
-    const MeasuredRun  run = RunInChildProcess([&] { return RunCgalMesh3(image, criteria); });
-    const double       mean = MeanTwoSidedDistance(run.output.mesh, marchingCubes, ours.distanceSampleSpacing);
-    std::cerr << "    facet_distance " << facetDistance << " mm: mean distance " << mean << " mm (ours " << targetMean
-              << ")\n";
-    ++best.trials;
-    if (std::abs(mean - targetMean) < bestError)
-    {
-      bestError = std::abs(mean - targetMean);
-      best.facetDistance = facetDistance;
-      best.cgalMeanDistance = mean;
-      best.matched = IsWithinTolerance(mean, targetMean);
-    }
-    return mean;
-  };
-  if (trial(0.0) <= targetMean || best.matched)
-  {
-    return best;
-  }
-  double loose = delta;
-  double tight = 0.5 * delta;
-  while (!best.matched && best.trials < MaximumFacetDistanceTrials && trial(tight) > targetMean)
-  {
-    loose = tight;
-    tight *= 0.5;
-  }
-  while (!best.matched && best.trials < MaximumFacetDistanceTrials)
-  {
-    const double middle = std::sqrt(tight * loose);
-    (trial(middle) > targetMean ? loose : tight) = middle;
-  }
-  return best;
-}
-
 /** Everything measured for one image and δ. */
 struct BenchCase
 {
@@ -318,8 +248,10 @@ RunCase(const BenchImage & benchImage, double delta, const Options & options, co
   }
   // Our mesh decides CGAL's facet_distance; our first run gives it and counts as a timed run.
   ours.RunOnce();
-  result.match = MatchFacetDistance(image, delta, ours.Quality(volume), marchingCubes);
-  CgalCriteria criteria{ FacetSizePerDelta * delta, result.match.facetDistance, CellSizePerDelta * delta, false };
+  const dr::QualityReport & ourQuality = ours.Quality(volume);
+  result.match = MatchFacetDistance(
+    image, delta, ourQuality.distanceToMarchingCubes.mean, ourQuality.distanceSampleSpacing, marchingCubes);
+  CgalCriteria criteria = CgalCriteriaForDelta(delta, result.match.facetDistance, false);
   CgalCriteria optimizedCriteria = criteria;
   optimizedCriteria.optimize = true;
   MesherRuns cgal("CGAL", [&] { return RunCgalMesh3(image, criteria); });
@@ -518,6 +450,20 @@ RequireKnownImageNames(const std::vector<BenchImage> & images, const Options & o
   }
 }
 
+/** The case's meshes as `directory`/IMAGE_DELTA_MESHER.vtu, MESHER one of ours, cgal, cgal-optimized: what
+ * bench/downstream.py solves on. */
+void
+WriteCaseMeshes(const BenchCase & c, bool oursOnly, const std::string & directory)
+{
+  const std::string prefix = directory + "/" + c.image + "_" + Format(c.delta, 1) + "_";
+  dr::WriteTetrahedralMesh(c.ours.mesh, prefix + "ours.vtu");
+  if (!oursOnly)
+  {
+    dr::WriteTetrahedralMesh(c.cgal.mesh, prefix + "cgal.vtu");
+    dr::WriteTetrahedralMesh(c.cgalOptimized.mesh, prefix + "cgal-optimized.vtu");
+  }
+}
+
 int
 RunBenchmark(const Options & options)
 {
@@ -543,6 +489,10 @@ RunBenchmark(const Options & options)
     for (const double delta : options.deltas.empty() ? benchImage.deltas : options.deltas)
     {
       cases.push_back(RunCase(benchImage, delta, options, volume, marchingCubes));
+      if (!options.meshDirectory.empty())
+      {
+        WriteCaseMeshes(cases.back(), options.oursOnly, options.meshDirectory);
+      }
     }
   }
   std::cout << "\nrho = 2, nearest-neighbour oracle; CGAL: facet_angle 30, facet_size " << FacetSizePerDelta
