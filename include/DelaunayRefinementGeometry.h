@@ -34,6 +34,12 @@ RadiansToDegrees(double radians)
   return radians * 180.0 / Pi;
 }
 
+inline double
+DegreesToRadians(double degrees)
+{
+  return degrees * Pi / 180.0;
+}
+
 /** Length of the shortest of the six edges. */
 inline double
 ShortestEdgeLength(const std::array<Vector3, 4> & corners)
@@ -89,6 +95,31 @@ DihedralAngles(const std::array<Vector3, 4> & corners)
     }
   }
   return angles;
+}
+
+/** The cosine of the smallest dihedral angle: what MinimumDihedralAngle() takes the arc cosine of, for tests
+ * against a bound that are asked of every new tetrahedron and need no angle. */
+inline double
+CosineOfSmallestDihedralAngle(const std::array<Vector3, 4> & corners)
+{
+  std::array<Vector3, 4> normals;
+  std::array<double, 4>  lengths{};
+  for (int k = 0; k < 4; ++k)
+  {
+    normals[k] = OutwardFaceNormal(corners, k);
+    lengths[k] = Norm(normals[k]);
+  }
+  double largest = -1.0;
+  for (int k = 0; k < 4; ++k)
+  {
+    for (int l = k + 1; l < 4; ++l)
+    {
+      const double product = lengths[k] * lengths[l];
+      const double cosine = product > 0.0 ? std::clamp(Dot(normals[k], normals[l]) / product, -1.0, 1.0) : 1.0;
+      largest = std::max(largest, -cosine);
+    }
+  }
+  return largest;
 }
 
 inline double

@@ -36,6 +36,7 @@
 #include "DelaunayRefinementQueue.h"
 #include "DelaunayRefinementRules.h"
 #include "DelaunayRefinementSizing.h"
+#include "DelaunayRefinementSliverSplit.h"
 
 #include <algorithm>
 #include <chrono>
@@ -62,6 +63,7 @@ public:
     , m_State(oracle, parameters)
     , m_Sizing(parameters.surfaceSamplingDistance)
     , m_BoxProtection(m_State, parameters.surfaceSamplingDistance, m_Statistics)
+    , m_SliverSplit(m_State, m_BoxProtection, parameters.radiusEdgeBound, parameters.minimumDihedralAngle)
     , m_Rules(oracle, parameters, m_State, m_Sizing, m_BoxProtection.Box())
     , m_Extraction(m_State)
     , m_Repair(m_State, m_Extraction, m_Sizing, parameters)
@@ -113,8 +115,8 @@ private:
   }
 
   /** What each rule's action does to the mesh: R1 and R3 insert a feature vertex and delete the free vertices
-   * near it; R2 inserts its circumcentre, or applies a box rule when that lies on or outside the box; R4 and R4'
-   * insert their circumcentre. Returns whether a vertex was inserted. */
+   * near it; R2 inserts its circumcentre, or applies a box rule when that lies on or outside the box; R4 inserts
+   * its circumcentre, R4' the best point near it (SliverSplit). Returns whether a vertex was inserted. */
   bool
   Perform(const Action & action, CellHandle cell)
   {
@@ -138,7 +140,9 @@ private:
         return m_State.InsertVertex(action.point, VertexKind::Free, cell).has_value();
       case Rule::R4Dihedral:
         ++m_Statistics.insertionsR4Dihedral;
-        return m_State.InsertVertex(action.point, VertexKind::Free, cell).has_value();
+        return m_State
+          .InsertVertex(m_SliverSplit.Choose(cell, action.point, cell->cache.squaredRadius), VertexKind::Free, cell)
+          .has_value();
     }
     return false;
   }
@@ -294,6 +298,7 @@ private:
   MeshState                    m_State;
   LocalSampling                m_Sizing;
   BoxProtection                m_BoxProtection;
+  SliverSplit                  m_SliverSplit;
   RefinementRules              m_Rules;
   MeshExtraction               m_Extraction;
   ManifoldRepair               m_Repair;
