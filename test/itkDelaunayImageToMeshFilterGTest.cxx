@@ -106,6 +106,47 @@ FilterFor(const TImage * image, double delta)
   return filter;
 }
 
+/** Tetrahedra flat to rounding, which a solver cannot use: volume <= 1e-6 × shortest edge cubed, computed here
+ * from the coordinates alone (none of the library's metric code; issue #15's bar). */
+std::size_t
+CountFlatTetrahedra(const dr::TetrahedralMesh & mesh)
+{
+  std::size_t flatTetrahedra = 0;
+  for (const auto & tetrahedron : mesh.tetrahedra)
+  {
+    std::array<std::array<double, 3>, 4> corner{};
+    for (int k = 0; k < 4; ++k)
+    {
+      corner[k] = mesh.points[tetrahedron[k]];
+    }
+    double shortest = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < 4; ++a)
+    {
+      for (int b = a + 1; b < 4; ++b)
+      {
+        const double dx = corner[a][0] - corner[b][0];
+        const double dy = corner[a][1] - corner[b][1];
+        const double dz = corner[a][2] - corner[b][2];
+        shortest = std::min(shortest, std::sqrt(dx * dx + dy * dy + dz * dz));
+      }
+    }
+    std::array<std::array<double, 3>, 3> e{};
+    for (int k = 0; k < 3; ++k)
+    {
+      for (int axis = 0; axis < 3; ++axis)
+      {
+        e[k][axis] = corner[k + 1][axis] - corner[0][axis];
+      }
+    }
+    const double volume =
+      std::abs(e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) - e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) +
+               e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0])) /
+      6.0;
+    flatTetrahedra += volume <= 1e-6 * shortest * shortest * shortest;
+  }
+  return flatTetrahedra;
+}
+
 /** The guarantees of docs/algorithm.md that hold for any object with ρ >= 1 and σ = 0: well-formed tetrahedra,
  * radius-edge < ρ, boundary planar angles > 30°, Lemma 2's shortest edges, every boundary triangle inside
  * its surface ball (radius < δ by R3, so circumradius < δ), with ρ >= 2 only feature vertices on the
@@ -137,6 +178,7 @@ ExpectGuarantees(const Meshed<TFilter> & meshed)
   const auto & shortest = meshed.shortestEdges.shortestEdge;
   EXPECT_GE(shortest.at(dr::VertexKind::Feature), finestDelta * (1.0 - RoundingSlack));
   EXPECT_GE(shortest.at(dr::VertexKind::Free), std::min(rho, 2.0) * finestDelta * (1.0 - RoundingSlack));
+  EXPECT_EQ(CountFlatTetrahedra(meshed.mesh), 0u);
   std::size_t backgroundTetrahedra = 0;
   for (const dr::Label label : meshed.mesh.tetrahedronLabels)
   {
@@ -1341,6 +1383,39 @@ TEST(Parameters, MinimumDihedralAngleIsHonoured)
   EXPECT_GE(meshed->quality.minimumDihedralAngle, 12.0 * (1.0 - RoundingSlack));
   EXPECT_EQ(meshed->quality.invertedTetrahedra, 0u);
   EXPECT_TRUE(meshed->consistency.IsConsistent());
+}
+
+// KNOWN DEFECT (issue #15 stays open for it): at σ = 0 the brain mask at δ = 3 mm has two flat tetrahedra, caps
+// of four nearly co-circular surface points on the voxel-face lattice whose radius-edge ratio is small. Splitting
+// them like slivers whatever σ removed them but put free vertices on the boundary and edges below δ (Lemmas 2 and
+// 5), so it was not kept. Pinned here so that nobody mistakes it for fixed: when it is, this test fails and δ = 3 mm
+// joins the Delta/BrainMask suite, whose guarantees include no flat tetrahedron.
+TEST(BrainMaskKnownDefect, FlatCapsAtThreeMillimetres)
+{
+  const Meshed<FilterType> & meshed = MeshedBrainMask(3.0);
+  EXPECT_GT(CountFlatTetrahedra(meshed.mesh), 0u) << "fixed? move delta 3 mm to the Delta/BrainMask suite";
+  EXPECT_LT(meshed.quality.maximumRadiusEdgeRatio, 2.0);
+  EXPECT_GT(meshed.boundary.minimumPlanarAngle, 30.0);
+}
+
+// With σ = 15° the same mesh has neither flat tetrahedra nor slivers, and keeps the other bounds (measured: R4'
+// proves nothing about boundary angles).
+TEST(BrainMaskSlivers, FifteenDegreesRemoveTheFlatCapsAndKeepTheBounds)
+{
+  auto filter = FilterFor(BrainMaskImage(), 3.0);
+  filter->SetMinimumDihedralAngle(15.0);
+  const auto meshed = RunFilter<FilterType>(filter);
+  EXPECT_EQ(CountFlatTetrahedra(meshed->mesh), 0u);
+  EXPECT_GE(meshed->quality.minimumDihedralAngle, 15.0 * (1.0 - RoundingSlack));
+  EXPECT_LT(meshed->quality.maximumRadiusEdgeRatio, 2.0);
+  EXPECT_GT(meshed->boundary.minimumPlanarAngle, 30.0);
+  EXPECT_EQ(meshed->quality.invertedTetrahedra, 0u);
+  EXPECT_TRUE(meshed->consistency.IsConsistent());
+  ExpectClosedManifoldBoundary(*meshed);
+  // The picking region, not the circumcentre: at most 1.3 × the tetrahedra of σ = 0 (the circumcentre made 1.58 ×
+  // at 4 mm).
+  EXPECT_LE(static_cast<double>(meshed->mesh.tetrahedra.size()),
+            1.3 * static_cast<double>(MeshedBrainMask(3.0).mesh.tetrahedra.size()));
 }
 
 // ---- Gray image and iso-value -----------------------------------------------------------------------------
