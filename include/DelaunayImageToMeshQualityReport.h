@@ -24,6 +24,7 @@
 
 #include <cstddef>
 #include <ostream>
+#include <array>
 #include <string>
 #include <utility>
 #include <vector>
@@ -85,6 +86,9 @@ struct AngleHistogram
   std::vector<std::size_t> counts;
 };
 
+/** The smallest dihedral angles, in degrees, that QualityReport counts tetrahedra below. */
+constexpr std::array<double, 3> SliverAngleThresholds{ { 5.0, 10.0, 15.0 } };
+
 /** Quality and fidelity of a labelled tetrahedral mesh against the segmentation it was made from. */
 struct QualityReport
 {
@@ -95,6 +99,11 @@ struct QualityReport
   /** Dihedral angles of all tetrahedra, degrees. */
   double minimumDihedralAngle{ 0.0 };
   double maximumDihedralAngle{ 0.0 };
+  /** Tetrahedra whose smallest dihedral angle is below each of SliverAngleThresholds (5°, 10°, 15°): what an FEM
+   * user asks first. */
+  std::array<std::size_t, 3> tetrahedraBelowDihedralAngle{};
+  /** Tetrahedra flat to rounding: volume <= 1e-6 × shortest edge cubed (expected: 0). */
+  std::size_t flatTetrahedra{ 0 };
   /** Largest circumradius / shortest edge of any tetrahedron (< ρ is guaranteed). */
   double maximumRadiusEdgeRatio{ 0.0 };
   /** Tetrahedra with signed volume <= 0 or a repeated vertex (expected: 0). */

@@ -17,6 +17,7 @@
  *=========================================================================*/
 #include "DelaunayImageToMeshQualityReport.h"
 #include "DelaunayImageToMeshVoxelComponents.h"
+#include "DelaunayRefinementGeometry.h"
 
 #include <nlohmann/json.hpp>
 
@@ -165,6 +166,25 @@ AddTetrahedronQuality(const TetrahedralMesh & mesh, QualityReport & report)
   report.maximumRadiusEdgeRatio = quality.maximumRadiusEdgeRatio;
   report.invertedTetrahedra = quality.invertedTetrahedra + quality.malformedTetrahedra;
   report.minimumDihedralAngleHistogram = HistogramOf(quality.minimumDihedralAngles);
+  for (std::size_t threshold = 0; threshold < SliverAngleThresholds.size(); ++threshold)
+  {
+    report.tetrahedraBelowDihedralAngle[threshold] = static_cast<std::size_t>(
+      std::count_if(quality.minimumDihedralAngles.begin(), quality.minimumDihedralAngles.end(), [&](double angle) {
+        return angle < SliverAngleThresholds[threshold];
+      }));
+  }
+  report.flatTetrahedra = 0;
+  for (const auto & tetrahedron : mesh.tetrahedra)
+  {
+    const std::array<Vector3, 4> corners{ { mesh.points[tetrahedron[0]],
+                                            mesh.points[tetrahedron[1]],
+                                            mesh.points[tetrahedron[2]],
+                                            mesh.points[tetrahedron[3]] } };
+    const double                 shortest = ShortestEdgeLength(corners);
+    const double                 volume =
+      std::abs(Dot(corners[1] - corners[0], Cross(corners[2] - corners[0], corners[3] - corners[0]))) / 6.0;
+    report.flatTetrahedra += volume <= 1e-6 * shortest * shortest * shortest ? 1 : 0;
+  }
 }
 
 void
@@ -210,6 +230,20 @@ ParametersJson(const MeshingRun & run)
            { "min_dihedral_angle_deg", run.minimumDihedralAngle } };
 }
 
+/** {"5": count, "10": count, "15": count}: the thresholds are SliverAngleThresholds, written once. */
+Json
+BelowDihedralAngleJson(const QualityReport & report)
+{
+  Json counts = Json::object();
+  for (std::size_t threshold = 0; threshold < SliverAngleThresholds.size(); ++threshold)
+  {
+    std::ostringstream key;
+    key << SliverAngleThresholds[threshold];
+    counts[key.str()] = report.tetrahedraBelowDihedralAngle[threshold];
+  }
+  return counts;
+}
+
 Json
 QualityJson(const QualityReport & report)
 {
@@ -218,6 +252,8 @@ QualityJson(const QualityReport & report)
            { "max_radius_edge_ratio", report.maximumRadiusEdgeRatio },
            { "min_boundary_planar_angle_deg", report.minimumBoundaryPlanarAngle },
            { "inverted_tetrahedra", report.invertedTetrahedra },
+           { "flat_tetrahedra", report.flatTetrahedra },
+           { "tetrahedra_below_dihedral_deg", BelowDihedralAngleJson(report) },
            { "manifold", report.IsManifold() },
            { "non_manifold_edges", report.nonManifoldEdges },
            { "non_manifold_vertices", report.nonManifoldVertices } };
@@ -370,6 +406,12 @@ PrintSummary(const QualityReport & report, std::ostream & out)
   PrintRow(out,
            "dihedral angle min / max",
            Fixed(report.minimumDihedralAngle, 3) + " / " + Fixed(report.maximumDihedralAngle, 3) + " deg");
+  PrintRow(out,
+           "tetrahedra below 5 / 10 / 15 deg",
+           std::to_string(report.tetrahedraBelowDihedralAngle[0]) + " / " +
+             std::to_string(report.tetrahedraBelowDihedralAngle[1]) + " / " +
+             std::to_string(report.tetrahedraBelowDihedralAngle[2]));
+  PrintRow(out, "flat tetrahedra (volume <= 1e-6 l^3)", std::to_string(report.flatTetrahedra));
   PrintRow(out, "max radius-edge ratio", Fixed(report.maximumRadiusEdgeRatio, 3));
   PrintRow(out, "min boundary planar angle", Fixed(report.minimumBoundaryPlanarAngle, 2) + " deg");
   PrintRow(out, "inverted tetrahedra", std::to_string(report.invertedTetrahedra));

@@ -180,6 +180,32 @@ TEST(QualityReport, SingleLabelCubeCountsAndShape)
   EXPECT_EQ(report.invertedTetrahedra, 0u);
   // The boundary triangles are right isosceles.
   EXPECT_NEAR(report.minimumBoundaryPlanarAngle, 45.0, Tolerance);
+  EXPECT_EQ(report.tetrahedraBelowDihedralAngle, (std::array<std::size_t, 3>{ { 0, 0, 0 } }));
+  EXPECT_EQ(report.flatTetrahedra, 0u);
+}
+
+// A tetrahedron of four points 1e-9 mm off a plane, beside the cube: flat to rounding, and below every threshold.
+TEST(QualityReport, CountsFlatTetrahedraAndSlivers)
+{
+  TetrahedralMesh mesh = KuhnCube(1);
+  const uint32_t  first = static_cast<uint32_t>(mesh.points.size());
+  for (const Vector3 & point : { Vector3{ { 3.0, 0.0, 0.0 } },
+                                 Vector3{ { 4.0, 0.0, 0.0 } },
+                                 Vector3{ { 3.0, 1.0, 0.0 } },
+                                 Vector3{ { 4.0, 1.0, 1e-9 } } })
+  {
+    mesh.points.push_back(point);
+    mesh.pointKinds.push_back(VertexKind::Feature);
+  }
+  mesh.tetrahedra.push_back({ { first, first + 1, first + 2, first + 3 } });
+  mesh.tetrahedronLabels.push_back(1);
+  AddBoundaryTriangles(mesh);
+  const QualityReport report = ComputeQualityReport(mesh, CubeSegmentation(1));
+  EXPECT_EQ(report.flatTetrahedra, 1u);
+  EXPECT_EQ(report.tetrahedraBelowDihedralAngle, (std::array<std::size_t, 3>{ { 1, 1, 1 } }));
+  const nlohmann::ordered_json json = JsonOf(report);
+  EXPECT_EQ(json["quality"]["flat_tetrahedra"], 1) << json;
+  EXPECT_EQ(json["quality"]["tetrahedra_below_dihedral_deg"].dump(), R"({"5":1,"10":1,"15":1})") << json;
 }
 
 TEST(QualityReport, SingleLabelCubeTopologyAndVolume)
