@@ -407,11 +407,11 @@ PrintSummary(const QualityReport & report, std::ostream & out)
            "dihedral angle min / max",
            Fixed(report.minimumDihedralAngle, 3) + " / " + Fixed(report.maximumDihedralAngle, 3) + " deg");
   PrintRow(out,
-           "tetrahedra below 5 / 10 / 15 deg",
+           "dihedral < 5 / 10 / 15 deg",
            std::to_string(report.tetrahedraBelowDihedralAngle[0]) + " / " +
              std::to_string(report.tetrahedraBelowDihedralAngle[1]) + " / " +
              std::to_string(report.tetrahedraBelowDihedralAngle[2]));
-  PrintRow(out, "flat tetrahedra (volume <= 1e-6 l^3)", std::to_string(report.flatTetrahedra));
+  PrintRow(out, "flat (vol <= 1e-6 l^3)", std::to_string(report.flatTetrahedra));
   PrintRow(out, "max radius-edge ratio", Fixed(report.maximumRadiusEdgeRatio, 3));
   PrintRow(out, "min boundary planar angle", Fixed(report.minimumBoundaryPlanarAngle, 2) + " deg");
   PrintRow(out, "inverted tetrahedra", std::to_string(report.invertedTetrahedra));
