@@ -23,14 +23,17 @@
 // - DelaunayRefinementQueue.h: the two-level work list;
 // - DelaunayRefinementSizing.h: the local δ;
 // - DelaunayRefinementRules.h: R1-R4 and R4';
+// - DelaunayRefinementSliverSplit.h: where R4' splits a sliver;
 // - DelaunayRefinementBoxProtection.h: the bounding box and E1-E3;
 // - DelaunayRefinementManifoldRepair.h: local refinement where a tissue's boundary is not a manifold;
+// - DelaunayRefinementFlatCaps.h: tetrahedra flat to rounding on a boundary;
 // - DelaunayRefinementExtraction.h: the output mesh.
 // This is the only translation unit that includes CGAL's triangulation: one slow compile.
 
 #include "DelaunayRefinementMesher.h"
 #include "DelaunayRefinementBoxProtection.h"
 #include "DelaunayRefinementExtraction.h"
+#include "DelaunayRefinementFlatCaps.h"
 #include "DelaunayRefinementManifoldRepair.h"
 #include "DelaunayRefinementMeshState.h"
 #include "DelaunayRefinementQueue.h"
@@ -91,6 +94,7 @@ public:
     m_BoxProtection.CreateBox(objectBounds);
     RefineUntilNoRuleApplies();
     RepairTopology();
+    m_Statistics.flatCapsRelabelled = FlatCaps(m_State, m_Repair).Relabel();
     const auto      extractionStart = std::chrono::steady_clock::now();
     TetrahedralMesh mesh = m_Extraction.ExtractMesh();
     const auto      end = std::chrono::steady_clock::now();
