@@ -129,6 +129,20 @@ MinimumDihedralAngle(const std::array<Vector3, 4> & corners)
   return *std::min_element(angles.begin(), angles.end());
 }
 
+/** A tetrahedron is flat to rounding when its volume is at most this × its shortest edge cubed: ten times what the
+ * output promises (1e-6), so that the promise survives coordinates rounded on output; a regular one has 0.118.
+ * Its circumcentre, and so the label there, is then numerically arbitrary (docs/algorithm.md, "Flat caps"). */
+constexpr double FlatVolumeFraction = 1e-5;
+
+inline bool
+IsFlatToRounding(const std::array<Vector3, 4> & corners)
+{
+  const double shortest = ShortestEdgeLength(corners);
+  const double volume =
+    std::abs(Dot(corners[1] - corners[0], Cross(corners[2] - corners[0], corners[3] - corners[0]))) / 6.0;
+  return volume <= FlatVolumeFraction * shortest * shortest * shortest;
+}
+
 /** Circumcentre of a tetrahedron (the point equidistant from its four corners). Not finite for a flat one. */
 inline Vector3
 TetrahedronCircumcenter(const std::array<Vector3, 4> & corners)

@@ -46,10 +46,6 @@ namespace detail
 class FlatCaps
 {
 public:
-  /** A tetrahedron is flat when its volume is at most this × its shortest edge cubed: ten times what the output
-   * promises (1e-6), so that the promise survives coordinates rounded on output; a regular one has 0.118. */
-  static constexpr double FlatVolumeFraction = 1e-5;
-
   FlatCaps(const MeshState & state, const ManifoldRepair & repair)
     : m_State(state)
     , m_Repair(repair)
@@ -90,15 +86,6 @@ public:
       std::count_if(caps.begin(), caps.end(), [](const auto & cap) { return cap.first->cache.label != cap.second; }));
   }
 
-  static bool
-  IsFlat(const std::array<Vector3, 4> & corners)
-  {
-    const double shortest = ShortestEdgeLength(corners);
-    const double volume =
-      std::abs(Dot(corners[1] - corners[0], Cross(corners[2] - corners[0], corners[3] - corners[0]))) / 6.0;
-    return volume <= FlatVolumeFraction * shortest * shortest * shortest;
-  }
-
 private:
   /** The flat caps, each with the label it would take. */
   std::vector<std::pair<CellHandle, Label>>
@@ -109,7 +96,7 @@ private:
     for (auto cell = triangulation.finite_cells_begin(); cell != triangulation.finite_cells_end(); ++cell)
     {
       const Label label = cell->cache.label;
-      if (label == BackgroundLabel || !IsFlat(m_State.CornersOf(cell)))
+      if (label == BackgroundLabel || !IsFlatToRounding(m_State.CornersOf(cell)))
       {
         continue;
       }
