@@ -90,7 +90,7 @@ public:
     RefineUntilNoRuleApplies();
     RepairTopology();
     const auto      extractionStart = std::chrono::steady_clock::now();
-    TetrahedralMesh mesh = m_Extraction.ExtractMesh();
+    TetrahedralMesh mesh = m_Extraction.ExtractMesh(m_Sizing);
     const auto      end = std::chrono::steady_clock::now();
 
     m_Statistics.deletedVertices = m_State.NumberOfDeletedVertices();
