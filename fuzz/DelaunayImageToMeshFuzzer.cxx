@@ -336,6 +336,12 @@ RunAndVerify(const typename TImage::Pointer & image, const FilterSettings & sett
       }
       return;
     case Outcome::NoTetrahedron:
+      // The randomized suite's rule: only a segmentation with no part 2δ across may give no tetrahedron.
+      if (result.thickComponents != 0)
+      {
+        Fail("'no tetrahedron' although " + result.firstThickComponent, result, settings);
+      }
+      [[fallthrough]];
     case Outcome::VertexLimit:
       if (!hasObject)
       {

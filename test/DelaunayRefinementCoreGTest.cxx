@@ -548,15 +548,40 @@ TEST(CoreReport, SphereAndTorusTable)
 
 TEST(CoreReport, RuleStatistics)
 {
-  // Not a guarantee: what each rule did, to read next to the table.
+  // What each rule did, to read next to the table, and checked against the mesh it produced: every output vertex was
+  // inserted by a rule of its kind (feature by R1/R3, free by R2/R4, box by the box corners and E1-E3), the final
+  // triangulation holds exactly what was inserted less what was deleted (every rule's point was new on these shapes),
+  // the statistics' finest δ is the exported sizing's, and the surface and the volume were refined (R1, R2).
   for (const auto & row : std::vector<std::pair<Shape, double>>{ { Shape::Sphere, 1.0 }, { Shape::Torus, 1.0 } })
   {
-    const RefinementStatistics & s = Meshed(row.first, ParametersOf(row.second, 2.0)).statistics;
+    SCOPED_TRACE(ShapeName(row.first));
+    const MeshedShape &          meshed = Meshed(row.first, ParametersOf(row.second, 2.0));
+    const RefinementStatistics & s = meshed.statistics;
     std::cout << ShapeName(row.first) << " delta=" << row.second << ": R1 " << s.insertionsR1 << ", R2 "
               << s.insertionsR2 << ", R3 " << s.insertionsR3 << ", R4 " << s.insertionsR4 << ", E1 " << s.insertionsE1
               << ", E2 " << s.insertionsE2 << ", E3 " << s.insertionsE3 << ", deleted " << s.deletedVertices
               << ", stale " << s.staleQueueEntries << ", triangulation vertices " << s.triangulationVertices
               << ", refinement " << s.refinementSeconds << " s, extraction " << s.extractionSeconds << " s\n";
+    std::map<VertexKind, std::size_t> outputVertices;
+    for (const VertexKind kind : meshed.mesh.pointKinds)
+    {
+      ++outputVertices[kind];
+    }
+    EXPECT_GT(s.insertionsR1, 0u);
+    EXPECT_GT(s.insertionsR2, 0u);
+    EXPECT_GT(outputVertices[VertexKind::Feature], 0u);
+    EXPECT_LE(outputVertices[VertexKind::Feature], s.insertionsR1 + s.insertionsR3);
+    EXPECT_LE(outputVertices[VertexKind::Free], s.insertionsR2 + s.insertionsR4 + s.insertionsR4Dihedral);
+    EXPECT_LE(outputVertices[VertexKind::BoxEdge] + outputVertices[VertexKind::BoxFace],
+              8 + s.insertionsE1 + s.insertionsE2 + s.insertionsE3);
+    const std::size_t inserted = 8 + s.insertionsR1 + s.insertionsR2 + s.insertionsR3 + s.insertionsR4 +
+                                 s.insertionsR4Dihedral + s.insertionsE1 + s.insertionsE2 + s.insertionsE3;
+    EXPECT_GE(s.triangulationVertices, meshed.mesh.points.size());
+    EXPECT_EQ(s.triangulationVertices + s.deletedVertices, inserted);
+    EXPECT_EQ(s.unresolvedBoxEncroachments, 0u);
+    EXPECT_EQ(s.manifoldRefinementZones, 0u);
+    EXPECT_EQ(s.finestSurfaceSamplingDistance,
+              *std::min_element(meshed.mesh.pointSamplingDistances.begin(), meshed.mesh.pointSamplingDistances.end()));
   }
 }
 
