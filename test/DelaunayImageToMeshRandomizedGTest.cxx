@@ -1167,7 +1167,7 @@ TEST(RandomizedStability, RecordedCaseChangesByAFewPerCentAtMost)
 }
 
 /** The first meshes of every family's seeds that hold at least a thousand tetrahedra at their δ (on a smaller mesh a
- * few per cent is a few elements, which any change of the cascade moves). */
+ * few per cent is a few elements, which any change of the cascade moves; the single voxels make none that large). */
 TEST(RandomizedStability, FirstMeshesOfEveryFamilyChangeByAFewPerCentAtMost)
 {
   constexpr std::size_t meshesPerFamily = 2;
@@ -1175,7 +1175,7 @@ TEST(RandomizedStability, FirstMeshesOfEveryFamilyChangeByAFewPerCentAtMost)
   for (const Family family : { Family::Blobs,
                                Family::SaltAndPepper,
                                Family::SheetsAndLines,
-                               Family::SingleVoxels,
+
                                Family::ManyLabels,
                                Family::BorderTouching,
                                Family::ThinImages,
