@@ -1099,6 +1099,28 @@ TEST(RandomizedKnownDefect, FeatureVerticesOffTheLocallyRegularizedSurface)
     << "fixed? check these vertices everywhere (CheckAgainstSegmentation) and remove this test";
 }
 
+/** The opt-in manifold refinement (ManifoldRefinementLevels > 0) repairs a mesh only when at most a fixed fraction of
+ * its boundary vertices are non-manifold (ManifoldRepair::IsRepairable), all of them or none: ManyLabels seed 5000157
+ * sits at that threshold, so δ and δ (1 + 1e-12) give 4 rounds, 190 zones and 9,275 vertices, or no round and 857
+ * vertices. This was the instability of issue #17; the default mechanism (the regularisation) does not have it
+ * (RandomizedStability). */
+TEST(RandomizedKnownDefect, OptInManifoldRefinementJumpsWithTheLastBitsOfDelta)
+{
+  RandomCase randomCase = MakeCase(Family::ManyLabels, 5000157);
+  randomCase.settings.manifoldRefinementLevels = 3;
+  randomCase.settings.regularizationScale = 0.0;
+  randomCase.settings.topologyRegularizationRounds = 0;
+  const double delta = EffectiveDelta(randomCase);
+  randomCase.settings.surfaceSamplingDistance = delta;
+  const CaseReport atDelta = RunCase(randomCase);
+  randomCase.settings.surfaceSamplingDistance = delta * (1.0 + 1e-12);
+  const CaseReport perturbed = RunCase(randomCase);
+  ASSERT_EQ(atDelta.result.outcome, Outcome::Mesh);
+  ASSERT_EQ(perturbed.result.outcome, Outcome::Mesh);
+  EXPECT_GT(atDelta.result.points, 5 * perturbed.result.points)
+    << "fixed? add the opt-in manifold refinement to RandomizedStability and remove this test";
+}
+
 // ---- Stability under the last bits of δ ---------------------------------------------------------------------
 
 /** What a run made: its outcome and, for a mesh, its counts. */
