@@ -1055,6 +1055,74 @@ CheckGuarantees(TFilter & filter, const TImage & image, const FilterSettings & s
   result.smallestDihedralAngle = quality.minimumDihedralAngle;
 }
 
+/** The largest distance from an object voxel centre to the centre of a voxel of another label, outside the image
+ * included (the filter pads the image with background), by brute force. Merged labels count as one. */
+template <typename TImage>
+double
+LargestDistanceToAnotherLabel(const TImage & image, const std::set<dr::Label> & tissues, bool mergeLabels)
+{
+  auto padded = image.GetBufferedRegion();
+  padded.PadByRadius(1);
+  std::vector<std::pair<dr::Vector3, dr::Label>> voxels;
+  for (auto index = padded.GetIndex(); index[2] <= padded.GetUpperIndex()[2]; ++index[2])
+  {
+    for (index[1] = padded.GetIndex()[1]; index[1] <= padded.GetUpperIndex()[1]; ++index[1])
+    {
+      for (index[0] = padded.GetIndex()[0]; index[0] <= padded.GetUpperIndex()[0]; ++index[0])
+      {
+        dr::Label label = dr::BackgroundLabel;
+        if (image.GetBufferedRegion().IsInside(index))
+        {
+          const auto value = static_cast<dr::Label>(std::lround(static_cast<double>(image.GetPixel(index))));
+          label = tissues.count(value) ? (mergeLabels ? 1 : value) : dr::BackgroundLabel;
+        }
+        typename TImage::PointType point;
+        image.TransformIndexToPhysicalPoint(index, point);
+        voxels.emplace_back(dr::Vector3{ { point[0], point[1], point[2] } }, label);
+      }
+    }
+  }
+  double largest = 0.0;
+  for (const auto & inside : voxels)
+  {
+    if (inside.second == dr::BackgroundLabel)
+    {
+      continue;
+    }
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const auto & other : voxels)
+    {
+      if (other.second != inside.second)
+      {
+        nearest = std::min(nearest, dr::Distance(inside.first, other.first));
+      }
+    }
+    largest = std::max(largest, nearest);
+  }
+  return largest;
+}
+
+/** Whether "every part thinner than the regularisation scale" may be the outcome: the opening keeps every voxel whose
+ * nearest voxel of another label is farther than its reach (RegularizationScale x δ + half the smallest spacing), so
+ * it cannot remove them all when one such voxel exists. Returns an empty string, or what contradicts the outcome. */
+template <typename TImage>
+std::string
+ContradictsRegularizedAway(const TImage & image, const FilterSettings & settings)
+{
+  const auto & spacing = image.GetSpacing();
+  // The filter's δ: the one set, or its automatic 4 x the largest spacing.
+  const double delta = settings.surfaceSamplingDistance > 0.0 ? settings.surfaceSamplingDistance
+                                                              : 4.0 * std::max({ spacing[0], spacing[1], spacing[2] });
+  const double reach = settings.regularizationScale * delta + 0.5 * std::min({ spacing[0], spacing[1], spacing[2] });
+  const double thickest = LargestDistanceToAnotherLabel(image, TissueLabelsOf(image, settings), settings.mergeLabels);
+  if (thickest > reach * (1.0 + 1e-9))
+  {
+    return "'regularised away' although a voxel lies " + std::to_string(thickest) + " mm > its reach " +
+           std::to_string(reach) + " mm from every other label";
+  }
+  return {};
+}
+
 /** Runs `filter` on `image` with `settings`, and sorts the result. A ProcessAborted caused by the time limit
  * is reported as timedOut. */
 template <typename TImage>

@@ -648,53 +648,6 @@ EffectiveDelta(const RandomCase & randomCase)
            : 4.0 * *std::max_element(randomCase.geometry.spacing.begin(), randomCase.geometry.spacing.end());
 }
 
-/** The largest distance from an object voxel centre to the centre of a voxel of another label, outside the image
- * included (the filter pads the image with background), by brute force. Merged labels count as one. */
-template <typename TImage>
-double
-LargestDistanceToAnotherLabel(const TImage & image, const std::set<dr::Label> & tissues, bool mergeLabels)
-{
-  auto padded = image.GetBufferedRegion();
-  padded.PadByRadius(1);
-  std::vector<std::pair<dr::Vector3, dr::Label>> voxels;
-  for (auto index = padded.GetIndex(); index[2] <= padded.GetUpperIndex()[2]; ++index[2])
-  {
-    for (index[1] = padded.GetIndex()[1]; index[1] <= padded.GetUpperIndex()[1]; ++index[1])
-    {
-      for (index[0] = padded.GetIndex()[0]; index[0] <= padded.GetUpperIndex()[0]; ++index[0])
-      {
-        dr::Label label = dr::BackgroundLabel;
-        if (image.GetBufferedRegion().IsInside(index))
-        {
-          const auto value = static_cast<dr::Label>(std::lround(static_cast<double>(image.GetPixel(index))));
-          label = tissues.count(value) ? (mergeLabels ? 1 : value) : dr::BackgroundLabel;
-        }
-        typename TImage::PointType point;
-        image.TransformIndexToPhysicalPoint(index, point);
-        voxels.emplace_back(dr::Vector3{ { point[0], point[1], point[2] } }, label);
-      }
-    }
-  }
-  double largest = 0.0;
-  for (const auto & inside : voxels)
-  {
-    if (inside.second == dr::BackgroundLabel)
-    {
-      continue;
-    }
-    double nearest = std::numeric_limits<double>::infinity();
-    for (const auto & other : voxels)
-    {
-      if (other.second != inside.second)
-      {
-        nearest = std::min(nearest, dr::Distance(inside.first, other.first));
-      }
-    }
-    largest = std::max(largest, nearest);
-  }
-  return largest;
-}
-
 struct CaseReport
 {
   RunResult                result;
@@ -744,16 +697,10 @@ RunCase(const RandomCase & randomCase, const typename TImage::Pointer & image)
       }
       break;
     case Outcome::RegularizedAway: {
-      // The opening keeps every voxel whose nearest voxel of another label is farther than its reach
-      // (RegularizationScale x delta + half the smallest spacing): one such voxel, and it cannot be all gone.
-      const auto & spacing = randomCase.geometry.spacing;
-      const double reach = randomCase.settings.regularizationScale * EffectiveDelta(randomCase) +
-                           0.5 * *std::min_element(spacing.begin(), spacing.end());
-      const double thickest = LargestDistanceToAnotherLabel(*image, tissues, randomCase.settings.mergeLabels);
-      if (thickest > reach * (1.0 + 1e-9))
+      const std::string contradiction = ContradictsRegularizedAway(*image, randomCase.settings);
+      if (!contradiction.empty())
       {
-        problem("'regularised away' although a voxel lies " + std::to_string(thickest) + " mm > its reach " +
-                std::to_string(reach) + " mm from every other label");
+        problem(contradiction);
       }
       break;
     }
