@@ -335,7 +335,22 @@ RunAndVerify(const typename TImage::Pointer & image, const FilterSettings & sett
         Fail("'no voxel selected' although voxels are", result, settings);
       }
       return;
+    case Outcome::RegularizedAway: {
+      // Not handled before issue #17 (the switch let it pass unchecked): the randomized suite's rule.
+      const std::string contradiction = ContradictsRegularizedAway(*image, settings);
+      if (!hasObject || !contradiction.empty())
+      {
+        Fail(hasObject ? contradiction : "'regularised away' although no voxel is selected", result, settings);
+      }
+      return;
+    }
     case Outcome::NoTetrahedron:
+      // The randomized suite's rule: only a segmentation with no part 2δ across may give no tetrahedron.
+      if (result.thickComponents != 0)
+      {
+        Fail("'no tetrahedron' although " + result.firstThickComponent, result, settings);
+      }
+      [[fallthrough]];
     case Outcome::VertexLimit:
       if (!hasObject)
       {

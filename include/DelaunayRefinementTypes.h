@@ -138,6 +138,12 @@ struct TetrahedralMesh
   std::vector<Label>                   tetrahedronLabels;
   std::vector<std::array<uint32_t, 3>> boundaryTriangles;
   std::vector<std::array<Label, 2>>    boundaryTriangleLabels;
+  /** The surface sampling distance the refinement used at each point when it ended (docs/algorithm.md, "Local
+   * sampling distance"): δ, or less inside the zones of the opt-in manifold refinement. Lemma 2's edge bounds hold
+   * with the smaller value of an edge's two ends where the sizing is uniform, and with the finest value next to zones
+   * (R3's threshold there is also a facet's shortest edge, which carries a zone's δ beyond it). Exported so that
+   * tests check edges against the sizing actually used rather than against the refinement's statistics. */
+  std::vector<double> pointSamplingDistances;
 };
 
 } // namespace delaunay_refinement

@@ -24,6 +24,7 @@
 // manifold check looks at.
 
 #include "DelaunayRefinementMeshState.h"
+#include "DelaunayRefinementSizing.h"
 
 #include <algorithm>
 #include <array>
@@ -44,13 +45,18 @@ public:
     : m_State(state)
   {}
 
-  /** The tetrahedra whose circumcentre is inside the object, in a canonical order. */
+  /** The tetrahedra whose circumcentre is inside the object, in a canonical order, with the local δ of `sizing`
+   * at each point. */
   TetrahedralMesh
-  ExtractMesh() const
+  ExtractMesh(const LocalSampling & sizing) const
   {
     const std::vector<CellHandle> objectCells = ObjectCells();
     TetrahedralMesh               mesh;
     NumberOutputVertices(objectCells, mesh);
+    for (const Vector3 & point : mesh.points)
+    {
+      mesh.pointSamplingDistances.push_back(sizing.LocalDelta(point));
+    }
     AddTetrahedra(objectCells, mesh);
     AddBoundaryTriangles(objectCells, mesh);
     return mesh;

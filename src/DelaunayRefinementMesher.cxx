@@ -96,7 +96,7 @@ public:
     RepairTopology();
     m_Statistics.flatCapsRelabelled = FlatCaps(m_State, m_Repair).Relabel();
     const auto      extractionStart = std::chrono::steady_clock::now();
-    TetrahedralMesh mesh = m_Extraction.ExtractMesh();
+    TetrahedralMesh mesh = m_Extraction.ExtractMesh(m_Sizing);
     const auto      end = std::chrono::steady_clock::now();
 
     m_Statistics.deletedVertices = m_State.NumberOfDeletedVertices();

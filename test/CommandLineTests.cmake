@@ -61,7 +61,14 @@ add_test(NAME DelaunayImageToMeshCommandLine.LostTissue
   COMMAND ${DelaunayImageToMesh_TEST_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/DelaunayImageToMeshCommandLineLostTissue.py
     ${command_line_program} ${command_line_images} ${command_line_output}/lost-tissue)
 
+# Radius-edge ratios, dihedral angles and boundary planar angles recomputed with NumPy from the written .vtu files,
+# independently of the library's metric code.
+add_test(NAME DelaunayImageToMeshCommandLine.IndependentQuality
+  COMMAND ${DelaunayImageToMesh_TEST_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/DelaunayImageToMeshCommandLineIndependentQuality.py
+    ${command_line_program} ${command_line_images} ${command_line_output}/independent-quality)
+
 set_tests_properties(
+  DelaunayImageToMeshCommandLine.IndependentQuality
   DelaunayImageToMeshCommandLine.OutputFormat.vtu
   DelaunayImageToMeshCommandLine.OutputFormat.vtk
   DelaunayImageToMeshCommandLine.OutputFormat.msh

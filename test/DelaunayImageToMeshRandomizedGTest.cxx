@@ -20,7 +20,11 @@
 // memory from fixed seeds (blobs, noise, one-voxel sheets and lines, single voxels, many labels, objects on
 // the border, thin images), in random physical space (anisotropic spacing, oblique and reflected directions,
 // far origins), meshed with δ from 0.3 to 20 voxels. Every run must end in a mesh that meets every guarantee,
-// or in one of the filter's documented exceptions; never in another exception, a crash or a hang.
+// or in one of the filter's documented exceptions where the voxels say it applies; never in another exception, a
+// crash or a hang. The rules are read from the voxels, not from the mesher (issue #17): "no tetrahedron" only when
+// no component of the meshed segmentation is 2δ across, every component that thick holds a tetrahedron of its label,
+// the boundary lies within δ of the voxels' surface and back within a bound, "vertex limit" only at a cap the case
+// chose itself; and each family must end in a mesh in a minimum share of its cases.
 //
 // Reproducing one case: DELAUNAY_RANDOMIZED_SEED=<seed> ./DelaunayImageToMeshRandomizedGTests
 //   --gtest_filter='*<Family>*' runs that seed alone and prints it. DELAUNAY_RANDOMIZED_CASES=<n> changes the
@@ -35,6 +39,7 @@
 #include <iostream>
 #include <map>
 #include <random>
+#include <tuple>
 
 namespace
 {
@@ -643,65 +648,6 @@ EffectiveDelta(const RandomCase & randomCase)
            : 4.0 * *std::max_element(randomCase.geometry.spacing.begin(), randomCase.geometry.spacing.end());
 }
 
-/** The largest distance from an object voxel centre to the centre of a voxel of another label, outside the image
- * included (the filter pads the image with background), by brute force. Merged labels count as one. */
-template <typename TImage>
-double
-LargestDistanceToAnotherLabel(const TImage & image, const std::set<dr::Label> & tissues, bool mergeLabels)
-{
-  auto padded = image.GetBufferedRegion();
-  padded.PadByRadius(1);
-  std::vector<std::pair<dr::Vector3, dr::Label>> voxels;
-  for (auto index = padded.GetIndex(); index[2] <= padded.GetUpperIndex()[2]; ++index[2])
-  {
-    for (index[1] = padded.GetIndex()[1]; index[1] <= padded.GetUpperIndex()[1]; ++index[1])
-    {
-      for (index[0] = padded.GetIndex()[0]; index[0] <= padded.GetUpperIndex()[0]; ++index[0])
-      {
-        dr::Label label = dr::BackgroundLabel;
-        if (image.GetBufferedRegion().IsInside(index))
-        {
-          const auto value = static_cast<dr::Label>(std::lround(static_cast<double>(image.GetPixel(index))));
-          label = tissues.count(value) ? (mergeLabels ? 1 : value) : dr::BackgroundLabel;
-        }
-        typename TImage::PointType point;
-        image.TransformIndexToPhysicalPoint(index, point);
-        voxels.emplace_back(dr::Vector3{ { point[0], point[1], point[2] } }, label);
-      }
-    }
-  }
-  double largest = 0.0;
-  for (const auto & inside : voxels)
-  {
-    if (inside.second == dr::BackgroundLabel)
-    {
-      continue;
-    }
-    double nearest = std::numeric_limits<double>::infinity();
-    for (const auto & other : voxels)
-    {
-      if (other.second != inside.second)
-      {
-        nearest = std::min(nearest, dr::Distance(inside.first, other.first));
-      }
-    }
-    largest = std::max(largest, nearest);
-  }
-  return largest;
-}
-
-/** A lower bound on the largest distance from an object voxel centre to the surface: to any voxel of another
- * label less half a voxel diagonal, which covers how far a nearest-neighbour voxel cell reaches. */
-template <typename TImage>
-double
-DeepestObjectPoint(const TImage & image, const std::set<dr::Label> & tissues, bool mergeLabels)
-{
-  const auto & spacing = image.GetSpacing();
-  const double halfDiagonal =
-    0.5 * std::sqrt(spacing[0] * spacing[0] + spacing[1] * spacing[1] + spacing[2] * spacing[2]);
-  return LargestDistanceToAnotherLabel(image, tissues, mergeLabels) - halfDiagonal;
-}
-
 struct CaseReport
 {
   RunResult                result;
@@ -723,10 +669,17 @@ RunCase(const RandomCase & randomCase, const typename TImage::Pointer & image)
   switch (result.outcome)
   {
     case Outcome::Mesh:
-    case Outcome::VertexLimit:
       if (tissues.empty())
       {
         problem("no voxel is selected, yet the filter did not say so");
+      }
+      break;
+    case Outcome::VertexLimit:
+      // The suite's cap (FilterSettings) is far above what any of its images needs at its δ: reaching it is a
+      // runaway refinement. Only a cap the case chose itself may stop a run.
+      if (randomCase.settings.maximumNumberOfVertices >= FilterSettings{}.maximumNumberOfVertices)
+      {
+        problem("the vertex cap " + std::to_string(randomCase.settings.maximumNumberOfVertices) + " was reached");
       }
       break;
     case Outcome::NoObjectVoxel:
@@ -735,28 +688,19 @@ RunCase(const RandomCase & randomCase, const typename TImage::Pointer & image)
         problem("'no voxel selected' although the image holds the labels " + DescribeLabels(tissues));
       }
       break;
-    case Outcome::NoTetrahedron: {
-      // A point deeper than 4δ inside the object lies in a tetrahedron whose circumsphere either stays inside
-      // the object (then it is output) or reaches the surface with radius >= 2δ (then R2 splits it).
-      const double delta = EffectiveDelta(randomCase);
-      const double depth = DeepestObjectPoint(*image, tissues, randomCase.settings.mergeLabels);
-      if (depth > 4.0 * delta * (1.0 + 1e-9))
+    case Outcome::NoTetrahedron:
+      // Only a segmentation with no part 2δ across may give no tetrahedron (counted from the voxels the filter
+      // meshed, after its regularisation; ThickComponentRadius() says why 2δ).
+      if (result.thickComponents != 0)
       {
-        problem("'no tetrahedron' although a point lies " + std::to_string(depth) + " mm > 4 delta inside the object");
+        problem("'no tetrahedron' although " + result.firstThickComponent);
       }
       break;
-    }
     case Outcome::RegularizedAway: {
-      // The opening keeps every voxel whose nearest voxel of another label is farther than its reach
-      // (RegularizationScale x delta + half the smallest spacing): one such voxel, and it cannot be all gone.
-      const auto & spacing = randomCase.geometry.spacing;
-      const double reach = randomCase.settings.regularizationScale * EffectiveDelta(randomCase) +
-                           0.5 * *std::min_element(spacing.begin(), spacing.end());
-      const double thickest = LargestDistanceToAnotherLabel(*image, tissues, randomCase.settings.mergeLabels);
-      if (thickest > reach * (1.0 + 1e-9))
+      const std::string contradiction = ContradictsRegularizedAway(*image, randomCase.settings);
+      if (!contradiction.empty())
       {
-        problem("'regularised away' although a voxel lies " + std::to_string(thickest) + " mm > its reach " +
-                std::to_string(reach) + " mm from every other label");
+        problem(contradiction);
       }
       break;
     }
@@ -806,7 +750,31 @@ struct FamilySummary
   /** Meshes holding a sliver flat to rounding (floating-point volume <= 0): allowed with σ = 0, unusable in FEM. */
   std::size_t meshesWithFlatSlivers{ 0 };
   double      smallestDihedralAngle{ 180.0 };
+  /** Of the meshes with nearest-neighbour labels: the largest distances, in δ, between boundary and voxels. */
+  std::vector<double> meshToSegmentation;
+  std::vector<double> segmentationToMesh;
+  /** Known defects, reported (see RandomizedKnownDefect): components a δ (not 2δ) across without a tetrahedron, and
+   * meshes with boundary feature vertices off the surface the local topology regularisation left. */
+  std::size_t lostComponentsAboutADeltaAcross{ 0 };
+  std::size_t meshesWithFeatureVerticesOffTheRegularizedSurface{ 0 };
 };
+
+/** "median / 95th percentile / 99th percentile / maximum" of some values. */
+std::string
+DescribeDistribution(std::vector<double> values)
+{
+  if (values.empty())
+  {
+    return "none";
+  }
+  std::sort(values.begin(), values.end());
+  const auto at = [&values](double fraction) {
+    return values[static_cast<std::size_t>(fraction * static_cast<double>(values.size() - 1))];
+  };
+  std::ostringstream text;
+  text << std::setprecision(3) << at(0.5) << " / " << at(0.95) << " / " << at(0.99) << " / " << values.back();
+  return text.str();
+}
 
 std::map<Family, FamilySummary> &
 SummaryOfTheRun()
@@ -822,7 +790,14 @@ PrintSummary(std::ostream & stream, const std::string & title, const FamilySumma
          << " s (slowest " << std::setprecision(2) << summary.slowestSeconds << " s, seed " << summary.slowestSeed
          << "; largest mesh " << summary.largestMesh << " tetrahedra), " << summary.failures << " failing\n"
          << "    meshes with a sliver flat to rounding (floating-point volume <= 0): " << summary.meshesWithFlatSlivers
-         << "; smallest dihedral angle " << std::setprecision(3) << summary.smallestDihedralAngle << " deg\n";
+         << "; smallest dihedral angle " << std::setprecision(3) << summary.smallestDihedralAngle << " deg\n"
+         << "    largest distance in delta (median / p95 / p99 / max), boundary to voxels: "
+         << DescribeDistribution(summary.meshToSegmentation)
+         << "; voxels of thick components to boundary: " << DescribeDistribution(summary.segmentationToMesh) << "\n"
+         << "    known defects: components a delta (not 2 delta) across without a tetrahedron "
+         << summary.lostComponentsAboutADeltaAcross
+         << "; meshes with feature vertices off the locally regularised surface "
+         << summary.meshesWithFeatureVerticesOffTheRegularizedSurface << "\n";
   for (const auto & entry : summary.outcomes)
   {
     stream << "    " << std::setw(6) << entry.second << "  " << OutcomeName(entry.first) << "\n";
@@ -855,6 +830,13 @@ public:
       {
         total.outcomes[outcome.first] += outcome.second;
       }
+      total.lostComponentsAboutADeltaAcross += summary.lostComponentsAboutADeltaAcross;
+      total.meshesWithFeatureVerticesOffTheRegularizedSurface +=
+        summary.meshesWithFeatureVerticesOffTheRegularizedSurface;
+      total.meshToSegmentation.insert(
+        total.meshToSegmentation.end(), summary.meshToSegmentation.begin(), summary.meshToSegmentation.end());
+      total.segmentationToMesh.insert(
+        total.segmentationToMesh.end(), summary.segmentationToMesh.begin(), summary.segmentationToMesh.end());
     }
     if (SummaryOfTheRun().size() > 1)
     {
@@ -887,6 +869,11 @@ struct FamilyRun
 {
   Family      family;
   std::size_t cases;
+  /** Meshes asserted among the family's cases, as a fraction of them: about 0.85 of the measured fraction (of the
+   * 3,000 cases: Blobs 272 of 400, SaltAndPepper 139 of 350, SheetsAndLines 101 of 350, SingleVoxels 26 of 400,
+   * ManyLabels 221 of 300, BorderTouching 235 of 400, ThinImages 125 of 400, Mixed 181 of 400), so that a mesher
+   * that gives up on what it could mesh fails even where every single refusal looks documented. */
+  double minimumMeshFraction;
 };
 
 std::ostream &
@@ -927,8 +914,16 @@ TEST_P(RandomizedImages, MeshMeetsEveryGuaranteeOrFailsAsDocumented)
     ++summary.outcomes[report.result.outcome];
     summary.seconds += report.result.seconds;
     summary.largestMesh = std::max(summary.largestMesh, report.result.tetrahedra);
+    summary.lostComponentsAboutADeltaAcross += report.result.lostComponentsAboutADeltaAcross;
+    summary.meshesWithFeatureVerticesOffTheRegularizedSurface +=
+      report.result.featureVerticesOffTheLocallyRegularizedSurface > 0;
     if (report.result.outcome == Outcome::Mesh)
     {
+      if (report.result.meshToSegmentation >= 0.0)
+      {
+        summary.meshToSegmentation.push_back(report.result.meshToSegmentation);
+        summary.segmentationToMesh.push_back(report.result.segmentationToMesh);
+      }
       summary.meshesWithFlatSlivers += report.result.smallestVolume <= 0.0;
       summary.smallestDihedralAngle = std::min(summary.smallestDihedralAngle, report.result.smallestDihedralAngle);
     }
@@ -951,15 +946,21 @@ TEST_P(RandomizedImages, MeshMeetsEveryGuaranteeOrFailsAsDocumented)
     }
   }
   PrintSummary(std::cout, FamilyName(run.family), summary);
+  if (!OnlySeed())
+  {
+    const std::size_t meshes = summary.outcomes[Outcome::Mesh];
+    EXPECT_GE(static_cast<double>(meshes), run.minimumMeshFraction * static_cast<double>(seeds.size()))
+      << meshes << " meshes of " << seeds.size() << " cases";
+  }
 }
 
-INSTANTIATE_TEST_SUITE_P(Family, RandomizedImages,
-                         testing::Values(FamilyRun{ Family::Blobs, 400 }, FamilyRun{ Family::SaltAndPepper, 350 },
-                                         FamilyRun{ Family::SheetsAndLines, 350 },
-                                         FamilyRun{ Family::SingleVoxels, 400 }, FamilyRun{ Family::ManyLabels, 300 },
-                                         FamilyRun{ Family::BorderTouching, 400 }, FamilyRun{ Family::ThinImages, 400 },
-                                         FamilyRun{ Family::Mixed, 400 }),
-                         [](const testing::TestParamInfo<FamilyRun> & info) { return FamilyName(info.param.family); });
+INSTANTIATE_TEST_SUITE_P(
+  Family, RandomizedImages,
+  testing::Values(FamilyRun{ Family::Blobs, 400, 0.58 }, FamilyRun{ Family::SaltAndPepper, 350, 0.33 },
+                  FamilyRun{ Family::SheetsAndLines, 350, 0.24 }, FamilyRun{ Family::SingleVoxels, 400, 0.04 },
+                  FamilyRun{ Family::ManyLabels, 300, 0.63 }, FamilyRun{ Family::BorderTouching, 400, 0.50 },
+                  FamilyRun{ Family::ThinImages, 400, 0.26 }, FamilyRun{ Family::Mixed, 400, 0.38 }),
+  [](const testing::TestParamInfo<FamilyRun> & info) { return FamilyName(info.param.family); });
 
 // ---- Regressions: cases this suite found, replayed --------------------------------------------------------
 
@@ -984,6 +985,8 @@ Fingerprint(const RandomCase & randomCase)
   return hash;
 }
 
+/** A replayed case. Its fingerprint was recomputed once, on purpose, when the suite's vertex cap (part of the
+ * description) went from 10,000 to 100,000 (issue #17): the images and the other settings are the recorded ones. */
 struct RecordedCase
 {
   Family   family;
@@ -1003,6 +1006,7 @@ ExpectReplayPasses(const RecordedCase & recorded)
   ASSERT_EQ(Fingerprint(randomCase), recorded.fingerprint)
     << "the generator changed: " << Describe(randomCase) << " is no longer the recorded case";
   const CaseReport report = RunCase(randomCase);
+  EXPECT_EQ(report.result.outcome, Outcome::Mesh) << Describe(randomCase) << ": " << report.result.message;
   EXPECT_TRUE(report.problems.empty()) << Describe(randomCase) << ": " << OutcomeName(report.result.outcome) << ": "
                                        << (report.problems.empty() ? "" : report.problems.front());
 }
@@ -1013,12 +1017,162 @@ ExpectReplayPasses(const RecordedCase & recorded)
  * boundary triangle of circumradius 1.04 > δ = 1.01 (R3's surface ball). */
 TEST(RandomizedRegression, FloatingPointCircumcentresOfNearlyFlatTetrahedra)
 {
-  for (const RecordedCase & recorded : { RecordedCase{ Family::BorderTouching, 6000044, 7402661037661562759u },
-                                         RecordedCase{ Family::BorderTouching, 6000067, 3854611721191783127u },
-                                         RecordedCase{ Family::ThinImages, 7000059, 1927589660703518422u },
-                                         RecordedCase{ Family::BorderTouching, 6000274, 576297355223616333u } })
+  for (const RecordedCase & recorded : { RecordedCase{ Family::BorderTouching, 6000044, 3629006560914750677u },
+                                         RecordedCase{ Family::BorderTouching, 6000067, 7159928999815081109u },
+                                         RecordedCase{ Family::ThinImages, 7000059, 2815026025713388522u },
+                                         RecordedCase{ Family::BorderTouching, 6000274, 15747545407499901381u } })
   {
     ExpectReplayPasses(recorded);
+  }
+}
+
+// ---- Known defects, pinned: when one is fixed its test fails, and the check it is excused from gets strict -----
+
+/** A component that holds a ball of diameter δ, but not 2δ, may have no tetrahedron although the regularisation kept
+ * it (ThickComponentRadius()): here three single voxels of 0.665 mm at δ = 0.587 mm (a ball of radius 0.57 δ each). */
+TEST(RandomizedKnownDefect, ComponentsADeltaAcrossCanBeLost)
+{
+  const CaseReport report = RunCase(MakeCase(Family::Mixed, 8000038));
+  ASSERT_EQ(report.result.outcome, Outcome::Mesh);
+  EXPECT_TRUE(report.problems.empty()) << report.problems.front();
+  EXPECT_GT(report.result.lostComponentsAboutADeltaAcross, 0u)
+    << "fixed? make ThickComponentRadius() delta / 2 and remove this test";
+}
+
+/** Boundary feature vertices left off the voxel surface where the local topology regularisation changed the labels
+ * (CheckAgainstSegmentation()). */
+TEST(RandomizedKnownDefect, FeatureVerticesOffTheLocallyRegularizedSurface)
+{
+  const CaseReport report = RunCase(MakeCase(Family::Blobs, 1000004));
+  ASSERT_EQ(report.result.outcome, Outcome::Mesh);
+  EXPECT_TRUE(report.problems.empty()) << report.problems.front();
+  EXPECT_GT(report.result.featureVerticesOffTheLocallyRegularizedSurface, 0u)
+    << "fixed? check these vertices everywhere (CheckAgainstSegmentation) and remove this test";
+}
+
+/** The opt-in manifold refinement (ManifoldRefinementLevels > 0) repairs a mesh only when at most a fixed fraction of
+ * its boundary vertices are non-manifold (ManifoldRepair::IsRepairable), all of them or none: ManyLabels seed 5000157
+ * sits at that threshold, so δ and δ (1 + 1e-12) give 4 rounds, 190 zones and 9,275 vertices, or no round and 857
+ * vertices. This was the instability of issue #17; the default mechanism (the regularisation) does not have it
+ * (RandomizedStability). */
+TEST(RandomizedKnownDefect, OptInManifoldRefinementJumpsWithTheLastBitsOfDelta)
+{
+  RandomCase randomCase = MakeCase(Family::ManyLabels, 5000157);
+  randomCase.settings.manifoldRefinementLevels = 3;
+  randomCase.settings.regularizationScale = 0.0;
+  randomCase.settings.topologyRegularizationRounds = 0;
+  const double delta = EffectiveDelta(randomCase);
+  randomCase.settings.surfaceSamplingDistance = delta;
+  const CaseReport atDelta = RunCase(randomCase);
+  randomCase.settings.surfaceSamplingDistance = delta * (1.0 + 1e-12);
+  const CaseReport perturbed = RunCase(randomCase);
+  ASSERT_EQ(atDelta.result.outcome, Outcome::Mesh);
+  ASSERT_EQ(perturbed.result.outcome, Outcome::Mesh);
+  EXPECT_GT(atDelta.result.points, 5 * perturbed.result.points)
+    << "fixed? add the opt-in manifold refinement to RandomizedStability and remove this test";
+}
+
+// ---- Stability under the last bits of δ ---------------------------------------------------------------------
+
+/** What a run made: its outcome and, for a mesh, its counts. */
+struct MeshSize
+{
+  Outcome     outcome{ Outcome::Unexpected };
+  std::size_t points{ 0 };
+  std::size_t tetrahedra{ 0 };
+};
+
+MeshSize
+MeshSizeOf(const RandomCase & randomCase)
+{
+  const CaseReport report = RunCase(randomCase);
+  return { report.result.outcome, report.result.points, report.result.tetrahedra };
+}
+
+/** Relative perturbations of δ: from the last bits of a double to a millionth. */
+const std::vector<double> &
+DeltaPerturbations()
+{
+  static const std::vector<double> perturbations{ 1e-12, -1e-12, 1e-10, 1e-9, -1e-9, 1e-8, 1e-6, -1e-6 };
+  return perturbations;
+}
+
+/** A change of δ in its last bits may move which way a tie falls (a circumcentre on a voxel face, cospherical voxel
+ * points), and so the cascade of the refinement, but the mesh's size must follow δ, not its rounding. Found by this
+ * suite: ManyLabels seed 5000157 (24x19x10 voxels) gave 844 vertices at δ (1 + 1e-12) and 8,415 at δ (1 + 1e-9) when
+ * the manifold refinement was the default (issue #17); with the regularisation that replaced it, 4.0 % at most.
+ * Measured on the meshes below (1,000 to 12,000 tetrahedra, perturbations 1e-12 to 1e-6): 0.8-4.7 % for the blobs,
+ * thin images, many labels and mixed images, 5.3-6.0 % for sheets and lines, 2.7-11.8 % for salt and pepper (whose
+ * every voxel is a tie). The bound keeps a margin over that and is two orders of magnitude below the instability. */
+constexpr double LargestRelativeSizeChange = 0.15;
+
+void
+ExpectStableUnderDeltaPerturbations(RandomCase randomCase)
+{
+  const double delta = EffectiveDelta(randomCase);
+  randomCase.settings.surfaceSamplingDistance = delta;
+  const MeshSize reference = MeshSizeOf(randomCase);
+  ASSERT_EQ(reference.outcome, Outcome::Mesh) << Describe(randomCase);
+  double largestChange = 0.0;
+  for (const double perturbation : DeltaPerturbations())
+  {
+    randomCase.settings.surfaceSamplingDistance = delta * (1.0 + perturbation);
+    const MeshSize perturbed = MeshSizeOf(randomCase);
+    ASSERT_EQ(perturbed.outcome, Outcome::Mesh) << Describe(randomCase);
+    for (const auto & [name, before, after] :
+         { std::make_tuple("points", reference.points, perturbed.points),
+           std::make_tuple("tetrahedra", reference.tetrahedra, perturbed.tetrahedra) })
+    {
+      const double change = std::abs(static_cast<double>(after) - static_cast<double>(before)) / before;
+      largestChange = std::max(largestChange, change);
+      EXPECT_LE(change, LargestRelativeSizeChange) << Describe(randomCase) << ": delta x (1 + " << perturbation
+                                                   << ") gives " << after << " " << name << " instead of " << before;
+    }
+  }
+  std::cout << FamilyName(randomCase.family) << " seed " << randomCase.seed << ": " << reference.tetrahedra
+            << " tetrahedra, largest relative change of the counts under the perturbations of delta " << largestChange
+            << "\n";
+}
+
+TEST(RandomizedStability, RecordedCaseChangesByAFewPerCentAtMost)
+{
+  ExpectStableUnderDeltaPerturbations(MakeCase(Family::ManyLabels, 5000157));
+}
+
+/** The first meshes of every family's seeds that hold at least a thousand tetrahedra at their δ (on a smaller mesh a
+ * few per cent is a few elements, which any change of the cascade moves; the single voxels make none that large). */
+TEST(RandomizedStability, FirstMeshesOfEveryFamilyChangeByAFewPerCentAtMost)
+{
+  // Runs with fewer cases per family (the sanitizers' 100) take one mesh per family.
+  const std::size_t     meshesPerFamily = CasesPerFamily(300) < 300 ? 1 : 2;
+  constexpr std::size_t smallestMesh = 1000;
+  for (const Family family : { Family::Blobs,
+                               Family::SaltAndPepper,
+                               Family::SheetsAndLines,
+
+                               Family::ManyLabels,
+                               Family::BorderTouching,
+                               Family::ThinImages,
+                               Family::Mixed })
+  {
+    const uint64_t firstSeed = 1000003u * (static_cast<uint64_t>(family) + 1);
+    std::size_t    found = 0;
+    for (uint64_t seed = firstSeed; found < meshesPerFamily && seed < firstSeed + 100; ++seed)
+    {
+      const RandomCase randomCase = MakeCase(family, seed);
+      if (randomCase.settings.maximumNumberOfVertices < FilterSettings{}.maximumNumberOfVertices)
+      {
+        continue;
+      }
+      const MeshSize size = MeshSizeOf(randomCase);
+      if (size.outcome != Outcome::Mesh || size.tetrahedra < smallestMesh)
+      {
+        continue;
+      }
+      ++found;
+      ExpectStableUnderDeltaPerturbations(randomCase);
+    }
+    EXPECT_EQ(found, meshesPerFamily) << FamilyName(family);
   }
 }
 

@@ -21,6 +21,7 @@
 // reports about itself is trusted, and no bound is loosened beyond floating-point slack.
 
 #include "DelaunayRefinementAnalyticOracles.h"
+#include "DelaunayRefinementLocalSizingChecks.h"
 #include "DelaunayRefinementMeshQuality.h"
 #include "DelaunayRefinementMesher.h"
 
@@ -304,31 +305,48 @@ ExpectQuality(const MeshedShape & meshed, const RefinementParameters & parameter
   }
 }
 
-/** Lemma 2: feature >= δ, free >= min(ρ, 2) δ (R2 inserts at >= 2δ, R4 at >= ρδ), box >= 2δ. The R4' variant
- * inserts circumcentres of slivers, whose circumradius has no lower bound in δ, so the feature and free
- * bounds are only checked without it (see UsesSliverRule). */
+/** Lemma 2: feature >= δ, free >= min(ρ, 2) δ (R2 inserts at >= 2δ, R4 at >= ρδ), box >= 2δ, edge by edge with the
+ * local δ the refinement exported at the edge's ends (which must be δ everywhere: these runs use no manifold
+ * refinement). The R4' variant inserts circumcentres of slivers, whose circumradius has no lower bound in δ, so the
+ * feature and free bounds are only checked without it (see UsesSliverRule). */
 void
 ExpectShortestEdges(const MeshedShape & meshed, const RefinementParameters & parameters)
 {
-  // Lemma 2 holds with the local δ, which the manifold refinement may have made smaller than δ somewhere; box
-  // vertices keep the global bound.
-  const double delta = parameters.surfaceSamplingDistance;
-  const double finestDelta = meshed.statistics.finestSurfaceSamplingDistance;
-  EXPECT_GT(finestDelta, 0.0);
-  EXPECT_LE(finestDelta, delta);
-  const auto & shortest = meshed.shortestEdges.shortestEdge;
-  if (!UsesSliverRule(parameters))
+  const LocalSizingReport report = CheckEdgesAgainstLocalSizing(meshed.mesh,
+                                                                parameters.surfaceSamplingDistance,
+                                                                parameters.radiusEdgeBound,
+                                                                parameters.manifoldRefinementLevels,
+                                                                !UsesSliverRule(parameters),
+                                                                RoundingSlack);
+  for (const std::string & problem : report.problems)
   {
-    EXPECT_GE(shortest.at(VertexKind::Feature), finestDelta * (1.0 - RoundingSlack));
-    EXPECT_GE(shortest.at(VertexKind::Free),
-              std::min(parameters.radiusEdgeBound, 2.0) * finestDelta * (1.0 - RoundingSlack));
+    ADD_FAILURE() << problem;
   }
-  EXPECT_GE(shortest.at(VertexKind::BoxEdge), 2.0 * delta * (1.0 - RoundingSlack));
-  EXPECT_GE(shortest.at(VertexKind::BoxFace), 2.0 * delta * (1.0 - RoundingSlack));
+}
+
+/** How far the boundary may lie from the exact surface. Every boundary triangle lies in its surface ball, of radius
+ * < δ and centred on the surface (R3), hence within δ: the bound for ρ < 1.5, where R4 on intersecting cells puts
+ * free vertices on the boundary and the distance is indeed about 0.9 δ (measured: 0.89-0.99 δ at ρ = 1). For ρ >= 1.5
+ * every boundary vertex measured lies on the surface and each triangle, of circumradius < δ, spans a chord of a
+ * surface whose radii of curvature are at least the local feature size r: its sag, r - sqrt(r^2 - δ^2) ~ δ^2 / 2r,
+ * is the paper's O(δ^2). Measured against it: 0.45-1.00 of it (the sphere's triangles reach circumradius δ, so its
+ * boundary sits at the sag itself); a quarter more is allowed, so that a mesh made at 2δ (four times the sag) fails. */
+double
+BoundaryDistanceBound(const AnalyticOracle & oracle, const RefinementParameters & parameters)
+{
+  const double delta = parameters.surfaceSamplingDistance;
+  const double r = oracle.MinimumLocalFeatureSize();
+  if (parameters.radiusEdgeBound < 1.5 || UsesSliverRule(parameters) || !(delta < r))
+  {
+    return delta;
+  }
+  constexpr double margin = 1.25;
+  return margin * (r - std::sqrt(r * r - delta * delta));
 }
 
 /** Theorem 3 (for δ small against the local feature size): closed manifold boundary with the shape's
- * components and genus, two-sided Hausdorff distance <= δ. Feature vertices on the surface. */
+ * components and genus, two-sided Hausdorff distance within BoundaryDistanceBound(). Feature vertices on the
+ * surface. */
 void
 ExpectFaithfulBoundary(const MeshedShape & meshed, const AnalyticOracle & oracle,
                        const RefinementParameters & parameters)
@@ -338,11 +356,14 @@ ExpectFaithfulBoundary(const MeshedShape & meshed, const AnalyticOracle & oracle
   EXPECT_EQ(meshed.boundary.nonManifoldVertices, 0u);
   EXPECT_EQ(meshed.boundary.numberOfComponents, oracle.NumberOfSurfaceComponents());
   EXPECT_EQ(meshed.boundary.totalGenus, oracle.TotalGenus());
-  EXPECT_LE(meshed.meshToSurface.maximum, delta);
-  EXPECT_LE(meshed.surfaceToMesh.maximum, delta);
+  const double distanceBound = BoundaryDistanceBound(oracle, parameters);
+  EXPECT_LE(meshed.meshToSurface.maximum, distanceBound);
+  EXPECT_LE(meshed.surfaceToMesh.maximum, distanceBound);
   EXPECT_LE(meshed.largestFeatureOffset, oracle.SurfaceTolerance());
   if (parameters.radiusEdgeBound >= 2.0 && !UsesSliverRule(parameters) &&
-      meshed.statistics.manifoldRefinementZones == 0)
+      std::all_of(meshed.mesh.pointSamplingDistances.begin(),
+                  meshed.mesh.pointSamplingDistances.end(),
+                  [delta](double local) { return local == delta; }))
   {
     // Lemma 5 (which needs a uniform δ): with ρ >= 2 every restricted facet, hence every boundary triangle, has only
     // feature vertices.
@@ -527,15 +548,61 @@ TEST(CoreReport, SphereAndTorusTable)
 
 TEST(CoreReport, RuleStatistics)
 {
-  // Not a guarantee: what each rule did, to read next to the table.
+  // What each rule did, to read next to the table, and checked against the mesh it produced: every output vertex was
+  // inserted by a rule of its kind (feature by R1/R3, free by R2/R4, box by the box corners and E1-E3), the final
+  // triangulation holds exactly what was inserted less what was deleted (every rule's point was new on these shapes),
+  // the statistics' finest δ is the exported sizing's, and the surface and the volume were refined (R1, R2).
   for (const auto & row : std::vector<std::pair<Shape, double>>{ { Shape::Sphere, 1.0 }, { Shape::Torus, 1.0 } })
   {
-    const RefinementStatistics & s = Meshed(row.first, ParametersOf(row.second, 2.0)).statistics;
+    SCOPED_TRACE(ShapeName(row.first));
+    const MeshedShape &          meshed = Meshed(row.first, ParametersOf(row.second, 2.0));
+    const RefinementStatistics & s = meshed.statistics;
     std::cout << ShapeName(row.first) << " delta=" << row.second << ": R1 " << s.insertionsR1 << ", R2 "
               << s.insertionsR2 << ", R3 " << s.insertionsR3 << ", R4 " << s.insertionsR4 << ", E1 " << s.insertionsE1
               << ", E2 " << s.insertionsE2 << ", E3 " << s.insertionsE3 << ", deleted " << s.deletedVertices
               << ", stale " << s.staleQueueEntries << ", triangulation vertices " << s.triangulationVertices
               << ", refinement " << s.refinementSeconds << " s, extraction " << s.extractionSeconds << " s\n";
+    std::map<VertexKind, std::size_t> outputVertices;
+    for (const VertexKind kind : meshed.mesh.pointKinds)
+    {
+      ++outputVertices[kind];
+    }
+    EXPECT_GT(s.insertionsR1, 0u);
+    EXPECT_GT(s.insertionsR2, 0u);
+    EXPECT_GT(outputVertices[VertexKind::Feature], 0u);
+    EXPECT_LE(outputVertices[VertexKind::Feature], s.insertionsR1 + s.insertionsR3);
+    EXPECT_LE(outputVertices[VertexKind::Free], s.insertionsR2 + s.insertionsR4 + s.insertionsR4Dihedral);
+    EXPECT_LE(outputVertices[VertexKind::BoxEdge] + outputVertices[VertexKind::BoxFace],
+              8 + s.insertionsE1 + s.insertionsE2 + s.insertionsE3);
+    const std::size_t inserted = 8 + s.insertionsR1 + s.insertionsR2 + s.insertionsR3 + s.insertionsR4 +
+                                 s.insertionsR4Dihedral + s.insertionsE1 + s.insertionsE2 + s.insertionsE3;
+    EXPECT_GE(s.triangulationVertices, meshed.mesh.points.size());
+    EXPECT_EQ(s.triangulationVertices + s.deletedVertices, inserted);
+    EXPECT_EQ(s.unresolvedBoxEncroachments, 0u);
+    EXPECT_EQ(s.manifoldRefinementZones, 0u);
+    EXPECT_EQ(s.finestSurfaceSamplingDistance,
+              *std::min_element(meshed.mesh.pointSamplingDistances.begin(), meshed.mesh.pointSamplingDistances.end()));
+  }
+}
+
+/** The README's "within O(δ²) of its surface", measured: halving δ must divide the two-sided Hausdorff distance by
+ * about four (3.7-4.0 measured); 2.5 leaves room for the sampling of the distance and the discreteness of the mesh,
+ * and still fails a distance linear in δ (2). ρ = 2, where Lemma 5 puts every boundary vertex on the surface. */
+TEST(CoreFidelity, HalvingDeltaDividesTheDistanceByAboutFour)
+{
+  constexpr double smallestRatio = 2.5;
+  for (const auto & [shape, delta] : std::vector<std::pair<Shape, double>>{ { Shape::Sphere, 2.0 },
+                                                                            { Shape::Sphere, 1.0 },
+                                                                            { Shape::Torus, 1.0 },
+                                                                            { Shape::TwoSpheres, 1.0 },
+                                                                            { Shape::Genus2, 1.0 },
+                                                                            { Shape::NestedSpheres, 1.0 } })
+  {
+    const double coarse = Meshed(shape, ParametersOf(delta, 2.0)).HausdorffDistance();
+    const double fine = Meshed(shape, ParametersOf(delta / 2.0, 2.0)).HausdorffDistance();
+    std::cout << ShapeName(shape) << ": Hausdorff distance " << coarse << " at delta " << delta << ", " << fine
+              << " at delta " << delta / 2.0 << ", ratio " << coarse / fine << "\n";
+    EXPECT_GE(coarse / fine, smallestRatio) << ShapeName(shape) << " delta " << delta;
   }
 }
 

@@ -733,6 +733,23 @@ TEST(BrainMaskReport, Table)
             << " components, genus " << reference.totalGenus << ", non-manifold edges/vertices "
             << reference.nonManifoldEdges << "/" << reference.nonManifoldVertices << "\n";
   std::cout << std::defaultfloat;
+
+  // The mesh's topology against the voxels' (marching cubes): one closed manifold component, as the mask is. At
+  // δ = 2 mm (one voxel diagonal of a face) the mask's one-voxel tunnel is resolved: the genus is the voxels' own. From
+  // δ = 4 mm the regularisation at the scale of δ closes it (docs/algorithm.md, "Topology"; test/Baseline/README.md):
+  // a coarser mesh may lose handles thinner than δ, never gain one.
+  ASSERT_EQ(reference.nonManifoldEdges, 0u);
+  ASSERT_EQ(reference.nonManifoldVertices, 0u);
+  for (const double delta : { 2.0, 4.0, 6.0 })
+  {
+    SCOPED_TRACE("delta " + std::to_string(delta) + " mm");
+    const dr::SurfaceTopology & boundary = MeshedBrainMask(delta).boundary;
+    EXPECT_EQ(boundary.nonManifoldEdges, 0u);
+    EXPECT_EQ(boundary.nonManifoldVertices, 0u);
+    EXPECT_EQ(boundary.numberOfComponents, reference.numberOfComponents);
+    EXPECT_LE(boundary.totalGenus, reference.totalGenus);
+  }
+  EXPECT_EQ(MeshedBrainMask(2.0).boundary.totalGenus, reference.totalGenus);
 }
 
 TEST(FilterOutputs, MatchTheRefinedMesh)
@@ -989,6 +1006,23 @@ KmeansTissueVolume()
   return volume;
 }
 
+/** Closedness (an even number of triangles at every edge) holds for any union of tetrahedra; what the topology
+ * regularisation (issue #14) buys is manifoldness, and on this speckle it is not complete: a few places per thousand
+ * stay pinched (measured at δ = 4 mm: at most 0.59 % of a tissue's boundary edges and 3.2 % of its vertices, against
+ * thousands of voxel pinches in the input). Asserted with margin, so that losing the regularisation (the input's
+ * pinches come back by the thousand) or a mesher that breaks boundaries fails; the places are reported above. */
+void
+ExpectFewNonManifoldPlaces(const dr::SurfaceTopology & topology, std::size_t voxelPinches, const std::string & what)
+{
+  constexpr double largestEdgeFraction = 0.01;
+  constexpr double largestVertexFraction = 0.05;
+  EXPECT_GT(topology.numberOfTriangles, 0u) << what;
+  EXPECT_LE(static_cast<double>(topology.nonManifoldEdges), largestEdgeFraction * topology.numberOfEdges) << what;
+  EXPECT_LE(static_cast<double>(topology.nonManifoldVertices), largestVertexFraction * topology.numberOfVertices)
+    << what;
+  EXPECT_LT(100 * topology.nonManifoldEdges, voxelPinches) << what << ": not a hundredth of the input's pinches";
+}
+
 // A tissue's boundary bounds a union of tetrahedra, so each of its edges lies in an even number of its triangles:
 // closed, always. A manifold it is only where the tissue does not touch itself across an edge, and the
 // k-means segmentation is speckle: its own voxel surface pinches at thousands of edges per tissue (printed as
@@ -1025,6 +1059,7 @@ TEST(KmeansTissues, EachTissueBoundaryIsClosed)
               << " (" << twoLabelPinches << " / " << junctionPinches << ") | " << topology.nonManifoldVertices << " | "
               << voxelPinches << " |\n";
     EXPECT_EQ(oddEdges, 0u) << "tissue " << tissue << " has a boundary with holes";
+    ExpectFewNonManifoldPlaces(topology, voxelPinches, "tissue " + std::to_string(tissue));
   }
 }
 
@@ -1048,6 +1083,7 @@ TEST(KmeansTissues, UnionBoundaryIsClosed)
             << topology.nonManifoldEdges << "/" << topology.nonManifoldVertices << "; voxel pinches of the input "
             << voxelPinches << "\n";
   EXPECT_EQ(oddEdges, 0u);
+  ExpectFewNonManifoldPlaces(topology, voxelPinches, "the union of the tissues");
 }
 
 // The brain mask's own voxel surface, for comparison: one pinch, so there the manifold test above is fair.
@@ -1471,10 +1507,12 @@ TEST(Interpolator, LabelImageGaussianInterpolatorGivesAValidMesh)
   ExpectClosedManifoldBoundary(*meshed);
   EXPECT_EQ(meshed->boundary.numberOfComponents, 1);
   EXPECT_EQ(meshed->boundary.totalGenus, 0);
-  const SphereFidelity fidelity = MeasureAgainstSphere(meshed->mesh, ball.center, BallInGrid::Radius, BallDelta);
-  std::cout << "Gaussian labels: " << meshed->mesh.tetrahedra.size() << " tetrahedra in " << meshed->seconds
-            << " s, largest vertex offset from the sphere " << fidelity.largestVertexOffset << ", mesh->sphere max "
-            << fidelity.meshToSphere.maximum << ", sphere->mesh max " << fidelity.sphereToMesh.maximum << "\n";
+  // The Gaussian vote between the labels near a point switches where the weights of the two sides balance, which for a
+  // surface flat at the scale of the kernel is the surface of the voxels' labels itself: the nearest-neighbour band
+  // (half a voxel diagonal, 0.98 mm here) holds it too. Measured: vertex offset 0.79 mm, mesh -> sphere 0.79 mm,
+  // sphere -> mesh 0.62 mm, against a chordal bound of about 1.1 mm.
+  ExpectFaithfulSphere(
+    *meshed, ball.center, BallInGrid::Radius, HalfVoxelDiagonal(*ball.image) + SurfacePointTolerance);
 }
 
 // ---- Progress and abort -------------------------------------------------------------------------------------

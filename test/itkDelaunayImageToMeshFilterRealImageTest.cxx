@@ -45,10 +45,11 @@ namespace
 using namespace itk::delaunay_image_to_mesh_test;
 using FilterType = itk::DelaunayImageToMeshFilter<LabelImageType, MeshType>;
 
-/** Counts (tetrahedra, boundary triangles, tetrahedra per tissue) may drift by 10 % before the mesh counts as
- * changed: a different compiler or CPU rounding the same predicates' inputs differently moves a few vertices,
- * and the refinement's cascade turns that into a few % of the elements. */
-constexpr double CountTolerance = 0.10;
+/** Counts (tetrahedra, boundary triangles, tetrahedra per tissue) may drift by 3 % before the mesh counts as
+ * changed: a different compiler or CPU rounding the same predicates' inputs differently moves a few vertices, and
+ * the refinement's cascade turns that into a few % of the elements at most. A material change (δ off by 5 %: 4.2 mm
+ * for 4 mm) moves them by more (issue #17), which the former 10 % let pass. */
+constexpr double CountTolerance = 0.03;
 
 bool
 CountMatches(const char * name, std::size_t measured, std::size_t baseline)

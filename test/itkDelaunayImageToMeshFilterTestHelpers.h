@@ -274,7 +274,7 @@ WriteInvariants(const MeshInvariants & invariants, const std::string & comment, 
 {
   std::ofstream file(fileName);
   file << "# " << comment << "\n";
-  file << "# Compared by itkDelaunayImageToMeshFilterRealImageTest: counts within +-10 %; unless countsOnly,\n"
+  file << "# Compared by itkDelaunayImageToMeshFilterRealImageTest: counts within +-3 %; unless countsOnly,\n"
        << "# components and genus exactly.\n";
   file << "tetrahedra " << invariants.tetrahedra << "\n";
   file << "boundaryTriangles " << invariants.boundaryTriangles << "\n";

@@ -1,0 +1,169 @@
+#!/usr/bin/env bash
+# Deliberate bugs that the test suite must catch (issue #17): each is applied alone to a copy of the source tree,
+# built with ccache into its own build directory, and the whole CTest suite is run against it. A mutation that
+# leaves every test green is a hole in the suite; the script then fails.
+#
+#   scripts/mutation-check.sh [MUTATION...]   # default: all of them
+#
+#   core-uses-2delta     the core silently meshes with 2δ instead of δ (RefineMesh doubles the parameter)
+#   drop-smallest        the output drops the tetrahedra of its smallest connected component (when it has several)
+#   vertex-cap-1000      the default vertex cap becomes 1,000 instead of 10,000,000
+#   skip-interface-r3    R3 (the boundary-angle rule) is skipped for interface triangles between two tissues
+#
+# Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
+# DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
+# arguments to ctest (e.g. "-R Randomized" to try one part of the suite). Run it after scripts/setup.sh.
+#
+# Last run (issue #17, 258 tests, about 45 minutes on 2 shared cores): every mutation caught.
+#   core-uses-2delta   94 tests: every analytic shape (distance bound, exported sizing), CoreFidelity, the brain-mask
+#                      and k-means tests and their baselines, fingerprints, all eight randomized families and the
+#                      stability test, the CLI tests (Inputs, LostTissue, IndependentQuality)
+#   drop-smallest      19 tests: the two-spheres core cases, CoreFidelity, all eight randomized families (a component
+#                      2 delta across without a tetrahedron), the k-means fingerprint
+#   vertex-cap-1000    88 tests: the analytic shapes, every brain-mask and k-means test and baseline, the ball tests
+#   skip-interface-r3  14 tests: KmeansTissues.GuaranteesHold and its baseline (counts), HostileShapes
+#                      TwoTissuesAlongAnEdge, seven randomized families (boundary angle <= 30 degrees, circumradius >=
+#                      delta on interfaces), the NumPy check of the CLI meshes (IndependentQuality), the fingerprint
+set -euo pipefail
+
+repository=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+work=${DELAUNAY_MUTATION_DIR:-$(dirname "$repository")/$(basename "$repository")-mutations}
+jobs=${DELAUNAY_MUTATION_JOBS:-$(nproc)}
+all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3)
+mutations=("$@")
+[ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
+# Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
+export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$(dirname "$repository")}
+
+# Replaces one exact text in a file, and fails when it is not there exactly once (the source moved on: the mutation
+# must be updated, not silently skipped).
+mutate() {
+  python3 - "$@" <<'PYTHON'
+import sys
+path, old, new = sys.argv[1:4]
+text = open(path, encoding="utf-8").read()
+if text.count(old) != 1:
+    sys.exit(f"mutation-check: expected exactly one occurrence in {path} of:\n{old}")
+open(path, "w", encoding="utf-8").write(text.replace(old, new))
+PYTHON
+}
+
+apply_mutation() {
+  local tree=$1 name=$2
+  case $name in
+    core-uses-2delta)
+      mutate "$tree/src/DelaunayRefinementMesher.cxx" \
+        'detail::Refiner      refiner(oracle, parameters, observer, regularizer);' \
+        'RefinementParameters mutated = parameters;
+  mutated.surfaceSamplingDistance *= 2.0;
+  detail::Refiner      refiner(oracle, mutated, observer, regularizer);'
+      ;;
+    drop-smallest)
+      mutate "$tree/src/DelaunayRefinementExtraction.h" \
+        '    const std::vector<CellHandle> objectCells = ObjectCells();
+    TetrahedralMesh               mesh;' \
+        '    std::vector<CellHandle> objectCells = ObjectCells();
+    {
+      std::map<CellHandle, std::size_t> componentOf;
+      std::vector<std::size_t>          sizes;
+      for (CellHandle seed : objectCells)
+      {
+        if (componentOf.count(seed))
+        {
+          continue;
+        }
+        std::vector<CellHandle> stack{ seed };
+        componentOf[seed] = sizes.size();
+        std::size_t size = 0;
+        while (!stack.empty())
+        {
+          CellHandle cell = stack.back();
+          stack.pop_back();
+          ++size;
+          for (int facet = 0; facet < 4; ++facet)
+          {
+            CellHandle next = cell->neighbor(facet);
+            if (!m_State.GetTriangulation().is_infinite(next) && next->cache.label != BackgroundLabel &&
+                !componentOf.count(next))
+            {
+              componentOf[next] = sizes.size();
+              stack.push_back(next);
+            }
+          }
+        }
+        sizes.push_back(size);
+      }
+      if (sizes.size() > 1)
+      {
+        const std::size_t smallest = std::min_element(sizes.begin(), sizes.end()) - sizes.begin();
+        objectCells.erase(std::remove_if(objectCells.begin(), objectCells.end(),
+                                         [&](CellHandle cell) { return componentOf[cell] == smallest; }),
+                          objectCells.end());
+      }
+    }
+    TetrahedralMesh mesh;'
+      mutate "$tree/src/DelaunayRefinementExtraction.h" '#include <algorithm>' '#include <algorithm>
+#include <map>'
+      ;;
+    vertex-cap-1000)
+      mutate "$tree/include/DelaunayRefinementParameters.h" \
+        'std::size_t maximumNumberOfVertices{ 10000000 };' 'std::size_t maximumNumberOfVertices{ 1000 };'
+      ;;
+    skip-interface-r3)
+      mutate "$tree/src/DelaunayRefinementRules.h" \
+        '      if (otherLabel == cell->cache.label)
+      {
+        continue;
+      }
+      const CellHandle neighbor = cell->neighbor(facet);' \
+        '      if (otherLabel == cell->cache.label ||
+          (otherLabel != BackgroundLabel && cell->cache.label != BackgroundLabel))
+      {
+        continue;
+      }
+      const CellHandle neighbor = cell->neighbor(facet);'
+      ;;
+    *)
+      echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2
+      exit 2
+      ;;
+  esac
+}
+
+mkdir -p "$work"
+summary=$work/summary.txt
+: >"$summary"
+survivors=0
+for name in "${mutations[@]}"; do
+  # The same layout as the checkout (the build inside the tree), so that ccache finds the checkout's objects.
+  tree=$work/$name
+  build=$tree/build
+  echo "== Mutation $name: copying the tree to $tree"
+  rm -rf "$tree"
+  mkdir -p "$tree"
+  # The working tree as it is (committed or not), without its build directories and VCS data.
+  tar -C "$repository" --exclude=./.git --exclude='./build' --exclude='./build-*' -cf - . | tar -C "$tree" -xf -
+  apply_mutation "$tree" "$name"
+  echo "== Mutation $name: building in $build"
+  log=$work/$name.build.log
+  cmake -S "$tree" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake --build "$build" -j"$jobs" >"$log" 2>&1 || {
+    echo "mutation-check: the mutated tree $name does not build; see $log" >&2
+    exit 2
+  }
+  echo "== Mutation $name: running the tests"
+  status=0
+  # shellcheck disable=SC2086
+  ctest_log=$work/$name.ctest.log
+  ctest --test-dir "$build" -j"$jobs" --timeout 1800 ${DELAUNAY_MUTATION_CTEST_ARGS:-} >"$ctest_log" 2>&1 || status=$?
+  if [ "$status" -eq 0 ]; then
+    echo "SURVIVED $name: every test passed" | tee -a "$summary"
+    survivors=$((survivors + 1))
+  else
+    echo "CAUGHT   $name by $(sed -n 's/.*[^0-9]\([0-9]\+\) tests failed out of.*/\1/p' "$ctest_log") tests (list in $ctest_log)" |
+      tee -a "$summary"
+  fi
+done
+echo "== Summary (also in $summary)"
+cat "$summary"
+[ "$survivors" -eq 0 ]

@@ -1,0 +1,169 @@
+# ==========================================================================
+#
+#   Copyright NumFOCUS
+#
+#   Licensed under the Apache License, Version 2.0 (the "License");
+#   you may not use this file except in compliance with the License.
+#   You may obtain a copy of the License at
+#
+#          http://www.apache.org/licenses/LICENSE-2.0.txt
+#
+#   Unless required by applicable law or agreed to in writing, software
+#   distributed under the License is distributed on an "AS IS" BASIS,
+#   WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+#   See the License for the specific language governing permissions and
+#   limitations under the License.
+#
+# ==========================================================================
+"""An independent check of the guarantees on the meshes the command-line program writes: radius-edge ratio, dihedral
+angles and the planar angles of the boundary and interface triangles, recomputed with NumPy from the .vtu file as
+meshio reads it. None of the library's own metric code (DelaunayRefinementMeshQuality, the quality report) is used,
+so a mistake there cannot hide a mesh that breaks a guarantee (issue #17).
+
+Usage: DelaunayImageToMeshCommandLineIndependentQuality.py PROGRAM IMAGE_DIRECTORY OUTPUT_DIRECTORY"""
+
+import collections
+import os
+import sys
+
+import meshio
+import numpy
+
+from DelaunayImageToMeshCommandLineTesting import check, mesh_and_report
+
+# The meshes: the command-line tests' images with the options they use, and the bounds each promises. rho is the
+# radius-edge bound (every ratio < rho); sigma the R4' dihedral bound in degrees (0: off, then every boundary and
+# interface triangle has all planar angles > 30 degrees, Theorem 2).
+CASES = [
+    ("labels", "labels.nii.gz", [], 2.0, 0.0),
+    ("labels-delta-1.5", "labels.nii.gz", ["--delta", "1.5"], 2.0, 0.0),
+    ("labels-rho-1.2", "labels.nii.gz", ["--delta", "1.5", "--radius-edge", "1.2"], 1.2, 0.0),
+    ("labels-merged", "labels.nii.gz", ["--delta", "1.5", "--merge-labels"], 2.0, 0.0),
+    ("labels-sigma-15", "labels.nii.gz", ["--delta", "1.5", "--min-dihedral", "15"], 2.0, 15.0),
+    ("speck", "speck.nii.gz", ["--delta", "1.5"], 2.0, 0.0),
+    ("gray-iso", "gray.mha", ["--delta", "1.5", "--iso", "92"], 2.0, 0.0),
+]
+
+
+def read_tetrahedra(path):
+    mesh = meshio.read(path)
+    points = numpy.asarray(mesh.points, dtype=numpy.float64)
+    blocks = [(block.data, labels) for block, labels in zip(mesh.cells, mesh.cell_data["label"])
+              if block.type == "tetra"]
+    check(blocks, f"{path}: no tetrahedra")
+    tetrahedra = numpy.concatenate([data for data, _ in blocks]).astype(numpy.int64)
+    labels = numpy.concatenate([numpy.asarray(values).ravel() for _, values in blocks]).astype(numpy.int64)
+    return points, tetrahedra, labels
+
+
+def circumradii(corners):
+    """Circumradius of each tetrahedron: |c - p0| with c solving 2 (pi - p0) . c' = |pi - p0|^2."""
+    a = corners[:, 1] - corners[:, 0]
+    b = corners[:, 2] - corners[:, 0]
+    c = corners[:, 3] - corners[:, 0]
+    denominator = 2.0 * numpy.einsum("ij,ij->i", a, numpy.cross(b, c))
+    numerator = (numpy.einsum("ij,ij->i", a, a)[:, None] * numpy.cross(b, c)
+                 + numpy.einsum("ij,ij->i", b, b)[:, None] * numpy.cross(c, a)
+                 + numpy.einsum("ij,ij->i", c, c)[:, None] * numpy.cross(a, b))
+    return numpy.linalg.norm(numerator / denominator[:, None], axis=1), denominator / 12.0
+
+
+def shortest_edges(corners):
+    pairs = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)]
+    lengths = numpy.stack([numpy.linalg.norm(corners[:, i] - corners[:, j], axis=1) for i, j in pairs], axis=1)
+    return lengths.min(axis=1)
+
+
+def smallest_dihedral_angles(corners):
+    """Smallest of the six dihedral angles of each tetrahedron, in degrees, from the face normals: the angle at the
+    edge shared by faces i and j is pi minus the angle between their outward normals."""
+    faces = [(1, 2, 3), (0, 3, 2), (0, 1, 3), (0, 2, 1)]
+    normals = []
+    for i, j, k in faces:
+        normal = numpy.cross(corners[:, j] - corners[:, i], corners[:, k] - corners[:, i])
+        normals.append(normal / numpy.linalg.norm(normal, axis=1)[:, None])
+    smallest = numpy.full(len(corners), 180.0)
+    for first in range(4):
+        for second in range(first + 1, 4):
+            cosine = numpy.clip(-numpy.einsum("ij,ij->i", normals[first], normals[second]), -1.0, 1.0)
+            smallest = numpy.minimum(smallest, numpy.degrees(numpy.arccos(cosine)))
+    return smallest
+
+
+def boundary_triangles(tetrahedra, labels):
+    """Facets whose two sides carry different labels (a facet of one tetrahedron has the background beyond it)."""
+    sides = collections.defaultdict(list)
+    for tetrahedron, label in zip(tetrahedra, labels):
+        for skipped in range(4):
+            facet = tuple(sorted(int(v) for position, v in enumerate(tetrahedron) if position != skipped))
+            sides[facet].append(int(label))
+    triangles = []
+    for facet, facet_labels in sides.items():
+        check(len(facet_labels) <= 2, f"facet {facet} is shared by {len(facet_labels)} tetrahedra")
+        if len(facet_labels) == 1 or facet_labels[0] != facet_labels[1]:
+            triangles.append(facet)
+    return numpy.asarray(triangles, dtype=numpy.int64)
+
+
+def smallest_planar_angles(points, triangles):
+    corners = points[triangles]
+    smallest = numpy.full(len(triangles), 180.0)
+    for apex in range(3):
+        u = corners[:, (apex + 1) % 3] - corners[:, apex]
+        v = corners[:, (apex + 2) % 3] - corners[:, apex]
+        cosine = numpy.einsum("ij,ij->i", u, v) / (numpy.linalg.norm(u, axis=1) * numpy.linalg.norm(v, axis=1))
+        smallest = numpy.minimum(smallest, numpy.degrees(numpy.arccos(numpy.clip(cosine, -1.0, 1.0))))
+    return smallest
+
+
+def check_mesh(path, rho, sigma):
+    points, tetrahedra, labels = read_tetrahedra(path)
+    corners = points[tetrahedra]
+    radii, volumes = circumradii(corners)
+    check(volumes.min() > 0.0, f"{path}: a tetrahedron has volume {volumes.min()} <= 0")
+    ratios = radii / shortest_edges(corners)
+    worst = int(numpy.argmax(ratios))
+    check(ratios[worst] < rho, f"{path}: radius-edge ratio {ratios[worst]} >= {rho} at tetrahedron {worst}, corners "
+          f"{corners[worst].tolist()}")
+    dihedral = smallest_dihedral_angles(corners)
+    triangles = boundary_triangles(tetrahedra, labels)
+    check(len(triangles) > 0, f"{path}: no boundary triangle")
+    planar = smallest_planar_angles(points, triangles)
+    if sigma > 0.0:
+        check(dihedral.min() >= sigma * (1.0 - 1e-9), f"{path}: dihedral angle {dihedral.min()} < sigma {sigma}")
+    else:
+        check(planar.min() > 30.0, f"{path}: boundary planar angle {planar.min()} <= 30 degrees at triangle "
+              f"{triangles[int(numpy.argmin(planar))].tolist()}")
+    return (f"{os.path.basename(path)}: {len(tetrahedra)} tetrahedra, {len(triangles)} boundary triangles, "
+            f"max radius-edge {ratios.max():.4f} (< {rho}), min dihedral {dihedral.min():.3f} deg"
+            f"{f' (>= {sigma})' if sigma > 0 else ''}, min boundary planar angle {planar.min():.3f} deg"
+            f"{' (> 30)' if sigma == 0 else ''}")
+
+
+def self_test():
+    """The checks must see what they look for: a regular tetrahedron (ratio sqrt(6)/4, dihedral 70.53 degrees,
+    planar 60) and a flattened one (a sliver: large ratio, small dihedral)."""
+    regular = numpy.array([[[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1]]], dtype=numpy.float64)
+    radii, _ = circumradii(regular)
+    check(abs(radii[0] / shortest_edges(regular)[0] - numpy.sqrt(6) / 4) < 1e-12, "regular tetrahedron's ratio")
+    check(abs(smallest_dihedral_angles(regular)[0] - numpy.degrees(numpy.arccos(1 / 3))) < 1e-9, "regular dihedral")
+    sliver = numpy.array([[[0, 0, 0], [1, 0, 0.01], [1, 1, 0], [0, 1, 0.01]]], dtype=numpy.float64)
+    radii, _ = circumradii(sliver)
+    check(radii[0] / shortest_edges(sliver)[0] > 0.7 and smallest_dihedral_angles(sliver)[0] < 5, "sliver")
+    triangles = boundary_triangles(numpy.array([[0, 1, 2, 3]]), numpy.array([1]))
+    check(len(triangles) == 4, "a lone tetrahedron has four boundary facets")
+    check(abs(smallest_planar_angles(regular[0], triangles).min() - 60.0) < 1e-9, "regular planar angles")
+
+
+def main(program, image_directory, output_directory):
+    self_test()
+    for name, image, options, rho, sigma in CASES:
+        mesh_path, _ = mesh_and_report(program, os.path.join(image_directory, image), output_directory, name,
+                                       options=options)
+        print(check_mesh(mesh_path, rho, sigma))
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 4:
+        sys.exit(__doc__)
+    main(*sys.argv[1:])
