@@ -134,13 +134,20 @@ MinimumDihedralAngle(const std::array<Vector3, 4> & corners)
  * Its circumcentre, and so the label there, is then numerically arbitrary (docs/algorithm.md, "Flat caps"). */
 constexpr double FlatVolumeFraction = 1e-5;
 
-inline bool
-IsFlatToRounding(const std::array<Vector3, 4> & corners)
+/** Volume / shortest edge cubed: 0 for a flat tetrahedron, 0.118 for a regular one. */
+inline double
+VolumeOverShortestEdgeCubed(const std::array<Vector3, 4> & corners)
 {
   const double shortest = ShortestEdgeLength(corners);
   const double volume =
     std::abs(Dot(corners[1] - corners[0], Cross(corners[2] - corners[0], corners[3] - corners[0]))) / 6.0;
-  return volume <= FlatVolumeFraction * shortest * shortest * shortest;
+  return volume / (shortest * shortest * shortest);
+}
+
+inline bool
+IsFlatToRounding(const std::array<Vector3, 4> & corners)
+{
+  return !(VolumeOverShortestEdgeCubed(corners) > FlatVolumeFraction);
 }
 
 /** Circumcentre of a tetrahedron (the point equidistant from its four corners). Not finite for a flat one. */

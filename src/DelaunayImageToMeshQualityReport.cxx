@@ -180,10 +180,7 @@ AddTetrahedronQuality(const TetrahedralMesh & mesh, QualityReport & report)
                                             mesh.points[tetrahedron[1]],
                                             mesh.points[tetrahedron[2]],
                                             mesh.points[tetrahedron[3]] } };
-    const double                 shortest = ShortestEdgeLength(corners);
-    const double                 volume =
-      std::abs(Dot(corners[1] - corners[0], Cross(corners[2] - corners[0], corners[3] - corners[0]))) / 6.0;
-    report.flatTetrahedra += volume <= 1e-6 * shortest * shortest * shortest ? 1 : 0;
+    report.flatTetrahedra += !(VolumeOverShortestEdgeCubed(corners) > 1e-6) ? 1 : 0;
   }
 }
 
