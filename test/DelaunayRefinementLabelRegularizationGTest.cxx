@@ -34,6 +34,7 @@
 #include <random>
 #include <set>
 #include <sstream>
+#include <string>
 #include <vector>
 
 namespace delaunay_refinement
@@ -310,7 +311,11 @@ TEST_P(LabelRegularizationAgainstDefinition, EveryVoxelTakesTheLabelTheDefinitio
 INSTANTIATE_TEST_SUITE_P(Grids, LabelRegularizationAgainstDefinition,
                          ::testing::Values(RegularizationCase{ { { 70, 9, 7 } }, { { 1.0, 1.0, 1.0 } } },
                                            RegularizationCase{ { { 66, 8, 9 } }, { { 0.7, 1.1, 1.9 } } },
-                                           RegularizationCase{ { { 129, 6, 5 } }, { { 1.3, 0.9, 0.6 } } }));
+                                           RegularizationCase{ { { 129, 6, 5 } }, { { 1.3, 0.9, 0.6 } } }),
+                         [](const ::testing::TestParamInfo<RegularizationCase> & info) {
+                           return "Grid" + std::to_string(info.param.size[0]) + "x" +
+                                  std::to_string(info.param.size[1]) + "x" + std::to_string(info.param.size[2]);
+                         });
 
 TEST(LabelRegularization, ZeroRadiusChangesNothing)
 {
