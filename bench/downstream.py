@@ -18,7 +18,6 @@ import sys
 
 import ufl
 from dolfinx import fem, mesh
-from dolfinx.fem.petsc import assemble_matrix, assemble_vector, apply_lifting, set_bc
 from petsc4py import PETSc
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples"))
@@ -34,22 +33,8 @@ def solve_poisson(msh, boundary_facets):
     bilinear = fem.form(ufl.inner(ufl.grad(u), ufl.grad(v)) * ufl.dx)
     linear = fem.form(fem.Constant(msh, PETSc.ScalarType(1.0)) * v * ufl.dx)
     bcs = [fem.dirichletbc(PETSc.ScalarType(0.0), fem.locate_dofs_topological(V, 2, boundary_facets), V)]
-    A = assemble_matrix(bilinear, bcs=bcs)
-    A.assemble()
-    b = assemble_vector(linear)
-    apply_lifting(b, [bilinear], bcs=[bcs])
-    b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
-    set_bc(b, bcs)
-    solver = PETSc.KSP().create(msh.comm)
-    solver.setOperators(A)
-    solver.setType("cg")
-    solver.getPC().setType("jacobi")
-    solver.setTolerances(rtol=RTOL, atol=0.0, max_it=100000)
-    solver.setComputeSingularValues(True)
-    solution = fem.Function(V)
-    solver.solve(b, solution.vector)
-    largest, smallest = solver.computeExtremeSingularValues()
-    return solver.getIterationNumber(), largest / smallest
+    _, iterations, condition = example.solve_with_cg(V, bilinear, linear, bcs, RTOL)
+    return iterations, condition
 
 
 def solve_clamped_elasticity(msh, boundary_facets):

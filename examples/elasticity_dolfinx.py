@@ -131,6 +131,13 @@ def solve_elasticity(msh, young, poisson, dirichlet, loads, rtol=1e-10):
         else:
             bcs.append(fem.dirichletbc(np.asarray(value, dtype=PETSc.ScalarType), dofs, V))
 
+    return solve_with_cg(V, bilinear, linear, bcs, rtol)
+
+
+def solve_with_cg(V, bilinear, linear, bcs, rtol):
+    """Assembles and solves a symmetric positive definite problem on V with CG and a Jacobi preconditioner.
+    Returns the solution, the number of iterations and PETSc's estimate of the preconditioned operator's
+    condition number (extreme singular values from the Lanczos process of CG)."""
     A = assemble_matrix(bilinear, bcs=bcs)
     A.assemble()
     b = assemble_vector(linear)
@@ -138,19 +145,19 @@ def solve_elasticity(msh, young, poisson, dirichlet, loads, rtol=1e-10):
     b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
     set_bc(b, bcs)
 
-    solver = PETSc.KSP().create(msh.comm)
+    solver = PETSc.KSP().create(V.mesh.comm)
     solver.setOperators(A)
     solver.setType("cg")
     solver.getPC().setType("jacobi")
     solver.setTolerances(rtol=rtol, atol=0.0, max_it=100000)
     solver.setComputeSingularValues(True)
-    displacement = fem.Function(V)
-    solver.solve(b, displacement.vector)
-    displacement.x.scatter_forward()
+    solution = fem.Function(V)
+    solver.solve(b, solution.vector)
+    solution.x.scatter_forward()
     if solver.getConvergedReason() <= 0:
         raise RuntimeError(f"CG did not converge: reason {solver.getConvergedReason()}")
     largest, smallest = solver.computeExtremeSingularValues()
-    return displacement, solver.getIterationNumber(), largest / smallest
+    return solution, solver.getIterationNumber(), largest / smallest
 
 
 def make_block_with_inclusion(spacing=0.5):
