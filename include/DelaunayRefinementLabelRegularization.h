@@ -60,7 +60,9 @@ struct LabelRegularizationReport
  * background closes the tissues, so one rule removes a tissue's parts thinner than about 2 × radius (bridges,
  * sheets, speckle) and fills its slits and gaps thinner than that, for every label alike and with no label favoured.
  * Every part of a label that holds a ball of radius + h/2 around a voxel centre stays. A voxel no label survives
- * near (every label thin everywhere) keeps its label.
+ * near (every label thin everywhere) keeps its label, except where the erosion's reach (radius + h/2) is at least
+ * the grid's length along an axis: there every tissue is within the reach of the background outside the grid, so
+ * every tissue voxel becomes background (the object is thinner than the scale everywhere).
  *
  * `labels` is a dense grid, voxel (i, j, k) at labels[i + size[0] * (j + size[1] * k)], with `spacing` between
  * voxel centres along each axis (the direction of the axes does not matter: distances are kept by rotations).

@@ -188,7 +188,7 @@ struct BallRow
 };
 
 std::vector<BallRow>
-BallRows(double radius, const Vector3 & spacing)
+BallRows(double radius, const Vector3 & spacing, const std::array<long, 3> & longestOffset)
 {
   const double squaredRadius = radius * radius;
   const auto   squaredLength = [&spacing](long dx, long dy, long dz) {
@@ -198,8 +198,10 @@ BallRows(double radius, const Vector3 & spacing)
     return x * x + y * y + z * z;
   };
   std::vector<BallRow> rows;
-  const long           reachY = static_cast<long>(std::ceil(radius / spacing[1]));
-  const long           reachZ = static_cast<long>(std::ceil(radius / spacing[2]));
+  // Rows that would reach past every box the ball is used in can reach nothing: a radius far larger than the grid
+  // (a huge δ, or a spacing a thousand times another) must not cost a ball of its own size.
+  const long reachY = std::min(static_cast<long>(std::ceil(radius / spacing[1])), longestOffset[1]);
+  const long reachZ = std::min(static_cast<long>(std::ceil(radius / spacing[2])), longestOffset[2]);
   for (long dz = -reachZ; dz <= reachZ; ++dz)
   {
     for (long dy = -reachY; dy <= reachY; ++dy)
@@ -214,7 +216,7 @@ BallRows(double radius, const Vector3 & spacing)
       {
         --halfWidth;
       }
-      rows.push_back({ dy, dz, halfWidth });
+      rows.push_back({ dy, dz, std::min(halfWidth, longestOffset[0]) });
     }
   }
   return rows;
@@ -428,12 +430,14 @@ struct NeighbourOffset
 };
 
 std::vector<NeighbourOffset>
-NeighbourOffsetsByDistance(double radius, const Vector3 & spacing, const std::array<long, 3> & strides)
+NeighbourOffsetsByDistance(double radius, const Vector3 & spacing, const std::array<long, 3> & strides,
+                           const std::array<long, 3> & longestOffset)
 {
   std::vector<NeighbourOffset> offsets;
-  const std::array<long, 3>    reach{ { static_cast<long>(std::ceil(radius / spacing[0])),
-                                        static_cast<long>(std::ceil(radius / spacing[1])),
-                                        static_cast<long>(std::ceil(radius / spacing[2])) } };
+  // An offset longer than the grid along an axis leads out of it from every voxel.
+  const std::array<long, 3> reach{ { std::min(static_cast<long>(std::ceil(radius / spacing[0])), longestOffset[0]),
+                                     std::min(static_cast<long>(std::ceil(radius / spacing[1])), longestOffset[1]),
+                                     std::min(static_cast<long>(std::ceil(radius / spacing[2])), longestOffset[2]) } };
   for (long dz = -reach[2]; dz <= reach[2]; ++dz)
   {
     for (long dy = -reach[1]; dy <= reach[1]; ++dy)
@@ -651,7 +655,8 @@ public:
     {
       return report;
     }
-    const std::vector<std::pair<std::size_t, Label>> changes = OpenEveryLabel(before.PerLabel());
+    const std::vector<std::pair<std::size_t, Label>> changes =
+      ReachExceedsTheGrid() ? EveryTissueVoxelToBackground() : OpenEveryLabel(before.PerLabel());
     if (changes.empty())
     {
       return report;
@@ -681,6 +686,37 @@ public:
   }
 
 private:
+  /** Whether the erosion's reach is at least the grid's length along some axis: then every tissue voxel is within
+   * the reach of the background outside the grid, and no tissue survives. */
+  bool
+  ReachExceedsTheGrid() const
+  {
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      if (m_Reach >= static_cast<double>(m_Size[axis]) * m_Spacing[axis])
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  /** Where no tissue survives, every tissue voxel goes to the background: the regularised object is empty, and
+   * the caller says that every part of it is thinner than the scale. */
+  std::vector<std::pair<std::size_t, Label>>
+  EveryTissueVoxelToBackground() const
+  {
+    std::vector<std::pair<std::size_t, Label>> changes;
+    for (std::size_t offset = 0; offset < m_NumberOfVoxels; ++offset)
+    {
+      if (m_Labels[offset] != BackgroundLabel)
+      {
+        changes.emplace_back(offset, BackgroundLabel);
+      }
+    }
+    return changes;
+  }
+
   /** Throws RefinementAborted when asked to stop. The labels change only at the very end, so they are intact. */
   void
   Checkpoint() const
@@ -804,8 +840,19 @@ private:
   std::vector<std::pair<std::size_t, Label>>
   OpenEveryLabel(const std::map<Label, LabelComponents::Statistics> & labels) const
   {
-    const std::vector<BallRow> erosionBall = BallRows(m_Reach, m_Spacing);
-    const std::vector<BallRow> dilationBall = BallRows(m_DilationReach, m_Spacing);
+    std::array<long, 3> backgroundMargin{};
+    std::array<long, 3> longestOffset{};
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      // The background outside the grid matters only as survivors that give voxels of the grid back; one grid
+      // length out, every voxel is farther than the reach from every tissue (the reach is shorter than the grid
+      // along every axis, see Run()), so it survives, and it is nearer to the grid than anything beyond it.
+      backgroundMargin[axis] = std::min(static_cast<long>(std::ceil(m_DilationReach / m_Spacing[axis])) + 1,
+                                        static_cast<long>(m_Size[axis]) + 1);
+      longestOffset[axis] = static_cast<long>(m_Size[axis]) + 2 * backgroundMargin[axis] - 1;
+    }
+    const std::vector<BallRow> erosionBall = BallRows(m_Reach, m_Spacing, longestOffset);
+    const std::vector<BallRow> dilationBall = BallRows(m_DilationReach, m_Spacing, longestOffset);
     std::vector<bool>          removed(m_NumberOfVoxels, false);
     std::vector<std::size_t>   removedVoxels;
     for (const auto & [label, statistics] : labels)
@@ -814,7 +861,9 @@ private:
       VoxelBox box;
       for (int axis = 0; axis < 3; ++axis)
       {
-        const long margin = static_cast<long>(std::ceil(m_DilationReach / m_Spacing[axis])) + 1;
+        // A tissue's erosion and dilation change its own voxels only, from sources next to them (its outer
+        // boundary, its survivors next to a removed voxel): one voxel of margin holds them all.
+        const long margin = label == BackgroundLabel ? backgroundMargin[axis] : 1;
         const long lowest = label == BackgroundLabel ? 0 : statistics.lowest[axis];
         const long highest = label == BackgroundLabel ? static_cast<long>(m_Size[axis]) - 1 : statistics.highest[axis];
         box.lower[axis] = lowest - margin;
@@ -865,7 +914,10 @@ private:
   {
     const double searchRadius = m_DilationReach + 2.0 * std::max({ m_Spacing[0], m_Spacing[1], m_Spacing[2] });
     const std::vector<NeighbourOffset> nearestFirst = NeighbourOffsetsByDistance(
-      searchRadius, m_Spacing, { { 1, static_cast<long>(m_Size[0]), static_cast<long>(m_Size[0] * m_Size[1]) } });
+      searchRadius,
+      m_Spacing,
+      { { 1, static_cast<long>(m_Size[0]), static_cast<long>(m_Size[0] * m_Size[1]) } },
+      { { static_cast<long>(m_Size[0]) - 1, static_cast<long>(m_Size[1]) - 1, static_cast<long>(m_Size[2]) - 1 } });
     std::vector<std::pair<std::size_t, Label>> changes;
     const auto                                 takeLabelOf = [&](std::size_t voxel, std::size_t survivor) {
       if (m_Labels[survivor] != m_Labels[voxel])

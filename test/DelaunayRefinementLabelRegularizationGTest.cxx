@@ -221,6 +221,18 @@ AllowedLabels(const Grid & grid, double radius)
   {
     allowed[voxel].insert(grid.labels[voxel]);
   }
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    if (reach >= static_cast<double>(grid.size[axis]) * grid.spacing[axis])
+    {
+      // No tissue survives (every voxel is within the reach of the outside along that axis): all background.
+      for (std::set<Label> & labels : allowed)
+      {
+        labels = { BackgroundLabel };
+      }
+      return allowed;
+    }
+  }
   for (const auto & voxel : removed)
   {
     const std::size_t index =
@@ -311,7 +323,12 @@ TEST_P(LabelRegularizationAgainstDefinition, EveryVoxelTakesTheLabelTheDefinitio
 INSTANTIATE_TEST_SUITE_P(Grids, LabelRegularizationAgainstDefinition,
                          ::testing::Values(RegularizationCase{ { { 70, 9, 7 } }, { { 1.0, 1.0, 1.0 } } },
                                            RegularizationCase{ { { 66, 8, 9 } }, { { 0.7, 1.1, 1.9 } } },
-                                           RegularizationCase{ { { 129, 6, 5 } }, { { 1.3, 0.9, 0.6 } } }),
+                                           RegularizationCase{ { { 129, 6, 5 } }, { { 1.3, 0.9, 0.6 } } },
+                                           // Two voxels along z: the larger radii reach past the grid along z
+                                           // (no tissue survives), and at 1.7 h the background outside the grid
+                                           // is cut at one grid length.
+                                           RegularizationCase{ { { 66, 6, 2 } }, { { 0.3, 0.7, 0.25 } } },
+                                           RegularizationCase{ { { 67, 7, 2 } }, { { 0.2, 0.7, 0.25 } } }),
                          [](const ::testing::TestParamInfo<RegularizationCase> & info) {
                            return "Grid" + std::to_string(info.param.size[0]) + "x" +
                                   std::to_string(info.param.size[1]) + "x" + std::to_string(info.param.size[2]);
