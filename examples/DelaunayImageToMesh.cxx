@@ -233,8 +233,8 @@ AddOptions(CLI::App & app, Options & options)
                                      "are classes; default: each label is a tissue)");
   app.add_flag("--keep-diagonal-voxels",
                options.keepDiagonalVoxels,
-               "do not join voxels of a tissue that touch only along an edge (default: one\nof the two "
-               "background voxels at that edge joins them, so that the boundary\ncan be a manifold there)");
+               "keep voxels that touch only along an edge or at a corner as they are\n(default: one voxel "
+               "there changes label, never a tissue's to the\nbackground, so that every boundary can be a manifold)");
   app.add_option("--regularization-scale", options.regularizationScale)
     ->description("delta is the resolution: parts of a tissue thinner than 2 x S x delta go to\ntheir neighbours and "
                   "slits that thin are filled, 0 to 0.5 (0 = the voxels as\nthey are)")
@@ -463,8 +463,9 @@ MeshImage(const Options & options)
   RunFilter(filter.GetPointer(), options.quiet);
   if (!options.quiet && filter->GetNumberOfJoiningVoxels() > 0)
   {
-    std::cerr << "joined voxels that touched only along an edge: " << filter->GetNumberOfJoiningVoxels()
-              << " background voxels took a tissue's label (--keep-diagonal-voxels keeps them apart)\n";
+    std::cout << "removed voxel pinches (labels touching only along a voxel edge or at a corner): "
+              << filter->GetNumberOfJoiningVoxels()
+              << " voxels changed label (--keep-diagonal-voxels keeps them as they are)\n";
   }
   const delaunay_refinement::TetrahedralMesh & mesh = filter->GetRefinedMesh();
   phaseSeconds.emplace_back("mesh", meshTime.Seconds());

@@ -22,23 +22,37 @@
 
 #include <array>
 #include <cstddef>
+#include <vector>
 
 namespace delaunay_refinement
 {
 
-/** Joins the voxels of a label that touch only along a voxel edge, where their voxel surface (the nearest-neighbour
- * labels' surface) is not a manifold: wherever, of the four voxels around an edge, two diagonally opposite ones
- * carry the same non-zero label and the other two are background, one of those two takes that label (the one with
- * more face neighbours of the label; the one along the first of the block's two axes on a tie). A contact between
- * different tissues (an off-diagonal voxel of another label) is left alone.
+/** Removes the voxel pinches of every label, the background included, so that each label's voxels meet the rest
+ * along a 2-manifold surface (a well-composed label image): nowhere in a block of 2 x 2 x 2 voxels does a label hold
+ * exactly one diagonal of a face (two voxels touching along an edge only), exactly two opposite corners (touching at
+ * a vertex only), or all but two opposite corners (the rest touching at a vertex only). The nearest-neighbour
+ * surface of a pinched label is not a manifold there, and no mesh sampled from it can be.
  *
- * `labels` is a dense grid, voxel (i, j, k) at labels[i + size[0] * (j + size[1] * k)]; only edges with all four
- * voxels inside it are looked at, so it should have a background border (the image oracle's label image has one).
- * Every change adds a voxel to an object, so the process ends, after at most as many changes as there are
- * background voxels; after a change only the voxel blocks around the changed voxel are looked at again. The
- * result depends on the labels only. Returns the number of voxels that changed. */
+ * A pinch is mended by changing one voxel of the block: the pinched label either takes a voxel from another label
+ * (it joins there) or gives one of its voxels to another label of the block (it is cut there). Of these changes,
+ * first those after which the label is no longer pinched in the block, then those that leave the fewest pinches in
+ * the eight blocks around the voxel, then the voxel with the most face neighbours of its new label, then the change
+ * that raises the voxel's rank, joining before cutting, then the lower corner. Labels rank: the background lowest,
+ * then the tissues from the fewest voxels to the most (ties: the smaller value lower). A change that lowers a
+ * voxel's rank is allowed only when it leaves fewer pinches around the voxel, only once per voxel, and never to the
+ * background: so a tissue is never cut by the background (the union of the tissues only grows, as a closing
+ * would), two tissues along a digital interface give and take voxels on both sides instead of the smaller one being
+ * peeled off, and the process ends (every other change raises a rank). After a change only the blocks around it are
+ * looked at again. The result depends on the labels only.
+ *
+ * `labels` is a dense grid, voxel (i, j, k) at labels[i + size[0] * (j + size[1] * k)]; only blocks with all eight
+ * voxels inside it are looked at, and voxels on its border never change, so it should have a background border (the
+ * image oracle's label image has one). When no change unpinches the label in the block at once, the block is looked
+ * at again after the change. Returns the number of voxels whose label differs at the end; `changedVoxels`, when
+ * given, receives their offsets in increasing order. */
 DelaunayImageToMesh_EXPORT std::size_t
-                           JoinDiagonalVoxels(Label * labels, const std::array<std::size_t, 3> & size);
+                           RemoveVoxelPinches(Label * labels, const std::array<std::size_t, 3> & size,
+                                              std::vector<std::size_t> * changedVoxels = nullptr);
 
 } // namespace delaunay_refinement
 

@@ -122,15 +122,17 @@ public:
   itkSetMacro(ManifoldRefinementLevels, unsigned int);
   itkGetConstMacro(ManifoldRefinementLevels, unsigned int);
 
-  /** Join the voxels of a tissue that touch only along an edge, the two other voxels around that edge being
-   * background: one of those two takes the tissue's label (see delaunay_refinement::JoinDiagonalVoxels). There the
-   * voxels' own surface is not a manifold, so a mesh of those voxels as they are would have a non-manifold edge;
-   * joined, they become a bridge one voxel thick. Only with nearest-neighbour labels (the default interpolator);
-   * other interpolators define their own surface. Default on. */
+  /** Remove the voxel pinches of every label, the background included, before meshing: where two voxels of a label
+   * touch only along an edge or at a corner, or two voxels of the rest touch so across it, one voxel of the block
+   * changes label, never a tissue's to the background, so the union of the tissues only grows (see
+   * delaunay_refinement::RemoveVoxelPinches). There the voxels' own surface is not a manifold, so a mesh of them
+   * as they are would not be one either; afterwards every label's voxel surface is a 2-manifold (a well-composed
+   * label image). Only with nearest-neighbour labels (the default interpolator); other interpolators define their
+   * own surface. Default on. The name is the option's first meaning (joining a tissue across the background). */
   itkSetMacro(JoinDiagonalVoxels, bool);
   itkGetConstMacro(JoinDiagonalVoxels, bool);
   itkBooleanMacro(JoinDiagonalVoxels);
-  /** How many background voxels the last update gave a tissue's label to join diagonal voxels. */
+  /** How many voxels the last update changed to remove voxel pinches (JoinDiagonalVoxels). */
   itkGetConstMacro(NumberOfJoiningVoxels, SizeValueType);
 
   /** δ is the mesh's resolution: before meshing, every label (the background included) is opened with a ball of

@@ -43,9 +43,9 @@ struct ImageLabelMapping
   /** Gray values: label 1 where the interpolated value is >= isoValue, 0 elsewhere. */
   bool   useIsoValue{ false };
   double isoValue{ 0.0 };
-  /** With nearest-neighbour labels: join the voxels of a label that touch only along an edge (see
-   * delaunay_refinement::JoinDiagonalVoxels), so that the labels' voxel surface has no non-manifold edge
-   * between an object and the background. Off here (the voxels as they are); the filter turns it on. */
+  /** With nearest-neighbour labels: remove the voxel pinches of every label, the background included (see
+   * delaunay_refinement::RemoveVoxelPinches), so that every label's voxel surface is a 2-manifold. Off here (the
+   * voxels as they are); the filter turns it on. */
   bool joinDiagonalVoxels{ false };
   /** With nearest-neighbour labels: open every label, the background included, with a ball of this radius
    * (physical units) before anything else (see delaunay_refinement::RegularizeLabels). 0 = the voxels as they
@@ -155,7 +155,7 @@ public:
     return m_RegularizationReport;
   }
 
-  /** How many background voxels took an object's label to join diagonal voxels (ImageLabelMapping). */
+  /** How many voxels changed label to remove voxel pinches (ImageLabelMapping::joinDiagonalVoxels). */
   SizeValueType
   GetNumberOfJoiningVoxels() const
   {

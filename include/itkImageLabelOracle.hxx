@@ -164,10 +164,11 @@ ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
   }
   if (m_Mapping.joinDiagonalVoxels && m_LabelsAreVoxelwise)
   {
-    // A joining voxel lies between two object voxels, so inside the object's bounds.
-    m_NumberOfJoiningVoxels = delaunay_refinement::JoinDiagonalVoxels(
+    // A changed voxel is in a block with an object voxel, so within one voxel of the object's bounds; the label
+    // image's border of background holds it. Voxels change between tissues too, so the object is counted again.
+    m_NumberOfJoiningVoxels = delaunay_refinement::RemoveVoxelPinches(
       m_LabelImage->GetBufferPointer(), { kept.GetSize()[0], kept.GetSize()[1], kept.GetSize()[2] });
-    m_NumberOfObjectVoxels += m_NumberOfJoiningVoxels;
+    CountObjectVoxels();
   }
   if (m_NumberOfObjectVoxels == 0)
   {

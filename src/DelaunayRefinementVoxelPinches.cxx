@@ -17,62 +17,158 @@
  *=========================================================================*/
 #include "DelaunayRefinementVoxelPinches.h"
 
+#include <algorithm>
 #include <deque>
+#include <optional>
+#include <unordered_map>
+#include <utility>
+#include <vector>
 
 namespace delaunay_refinement
 {
 namespace
 {
 
-/** The four voxels around an edge along the third axis: the corner with the lowest offset and the two axes of
- * the block's plane. */
-struct VoxelBlock
-{
-  std::size_t corner;
-  int         first;
-  int         second;
-};
+/** Voxel i of a 2 x 2 x 2 cube sits at (i & 1, (i >> 1) & 1, (i >> 2) & 1) from its lowest corner; a label's
+ * presence in the cube is an 8-bit mask. */
+using CubeMask = unsigned int;
 
-class DiagonalVoxelJoiner
+/** Whether a set of voxels (bit set) and its complement in the cube can meet there other than along a 2-manifold:
+ * on one of the cube's six faces the set holds exactly one diagonal, or it holds exactly two opposite corners of the
+ * cube, or all but two opposite corners. These are the critical configurations of a well-composed binary image
+ * (Latecki 1997); a set without them has a voxel surface that is a 2-manifold. */
+class CriticalConfigurations
 {
 public:
-  DiagonalVoxelJoiner(Label * labels, const std::array<std::size_t, 3> & size)
+  CriticalConfigurations()
+  {
+    constexpr std::array<std::array<int, 4>, 6> faces{ { { { 0, 1, 3, 2 } },
+                                                         { { 4, 5, 7, 6 } },
+                                                         { { 0, 1, 5, 4 } },
+                                                         { { 2, 3, 7, 6 } },
+                                                         { { 0, 2, 6, 4 } },
+                                                         { { 1, 3, 7, 5 } } } };
+    for (CubeMask mask = 0; mask < 256; ++mask)
+    {
+      bool critical = false;
+      for (const auto & face : faces)
+      {
+        // Around the face's cycle: set, unset, set, unset (either way round) is one diagonal.
+        const bool b0 = (mask >> face[0]) & 1;
+        const bool b1 = (mask >> face[1]) & 1;
+        const bool b2 = (mask >> face[2]) & 1;
+        const bool b3 = (mask >> face[3]) & 1;
+        critical = critical || (b0 == b2 && b1 == b3 && b0 != b1);
+      }
+      for (int corner = 0; corner < 4; ++corner)
+      {
+        const CubeMask opposite = (1u << corner) | (1u << (7 - corner));
+        critical = critical || mask == opposite || mask == (255u & ~opposite);
+      }
+      m_Critical[mask] = critical;
+    }
+  }
+
+  bool
+  operator()(CubeMask mask) const
+  {
+    return m_Critical[mask];
+  }
+
+private:
+  std::array<bool, 256> m_Critical{};
+};
+
+class VoxelPinchRemover
+{
+public:
+  VoxelPinchRemover(Label * labels, const std::array<std::size_t, 3> & size)
     : m_Labels(labels)
     , m_Size(size)
     , m_Strides{ { 1, size[0], size[0] * size[1] } }
-  {}
+  {
+    for (int corner = 0; corner < 8; ++corner)
+    {
+      m_CornerOffsets[corner] =
+        (corner & 1) * m_Strides[0] + ((corner >> 1) & 1) * m_Strides[1] + ((corner >> 2) & 1) * m_Strides[2];
+    }
+    RankLabels();
+    m_HasChanged.assign(size[0] * size[1] * size[2], false);
+    m_LoweredOnce.assign(size[0] * size[1] * size[2], false);
+  }
 
   std::size_t
   Run()
   {
-    std::size_t offset = 0;
-    for (std::size_t k = 0; k < m_Size[2]; ++k)
+    if (m_Size[0] < 2 || m_Size[1] < 2 || m_Size[2] < 2)
     {
-      for (std::size_t j = 0; j < m_Size[1]; ++j)
+      return 0;
+    }
+    for (std::size_t k = 0; k + 1 < m_Size[2]; ++k)
+    {
+      for (std::size_t j = 0; j + 1 < m_Size[1]; ++j)
       {
-        for (std::size_t i = 0; i < m_Size[0]; ++i, ++offset)
+        std::size_t offset = m_Strides[1] * j + m_Strides[2] * k;
+        for (std::size_t i = 0; i + 1 < m_Size[0]; ++i, ++offset)
         {
-          ForEachPlane([&](int first, int second) {
-            if (HoldsBlock({ { i, j, k } }, first, second))
-            {
-              Check({ offset, first, second });
-            }
-          });
+          m_Pending.push_back(offset);
           ProcessPending();
         }
       }
     }
-    return m_Changed;
+    return ChangedVoxels().size();
+  }
+
+  /** The voxels whose label differs from the one they had, in increasing order (a voxel may change more than
+   * once, and end where it began). */
+  std::vector<std::size_t>
+  ChangedVoxels() const
+  {
+    std::vector<std::size_t> changed;
+    for (const auto & [offset, original] : m_Originals)
+    {
+      if (m_Labels[offset] != original)
+      {
+        changed.push_back(offset);
+      }
+    }
+    std::sort(changed.begin(), changed.end());
+    return changed;
   }
 
 private:
-  template <typename TVisit>
-  static void
-  ForEachPlane(TVisit && visit)
+  /** Labels in the order in which they give way: the background first, then the tissues from the fewest voxels to
+   * the most (ties by value). A voxel's rank goes down at most once; every other change raises it, so the process
+   * ends. */
+  void
+  RankLabels()
   {
-    visit(0, 1);
-    visit(0, 2);
-    visit(1, 2);
+    std::unordered_map<Label, std::size_t> counts;
+    const std::size_t                      numberOfVoxels = m_Size[0] * m_Size[1] * m_Size[2];
+    for (std::size_t offset = 0; offset < numberOfVoxels; ++offset)
+    {
+      ++counts[m_Labels[offset]];
+    }
+    std::vector<std::pair<Label, std::size_t>> ordered(counts.begin(), counts.end());
+    std::sort(ordered.begin(), ordered.end(), [](const auto & a, const auto & b) {
+      const bool aBackground = a.first == BackgroundLabel;
+      const bool bBackground = b.first == BackgroundLabel;
+      if (aBackground != bBackground)
+      {
+        return aBackground;
+      }
+      return a.second != b.second ? a.second < b.second : a.first < b.first;
+    });
+    for (std::size_t rank = 0; rank < ordered.size(); ++rank)
+    {
+      m_Rank[ordered[rank].first] = rank;
+    }
+  }
+
+  std::size_t
+  RankOf(Label label) const
+  {
+    return m_Rank.at(label);
   }
 
   std::array<std::size_t, 3>
@@ -81,41 +177,196 @@ private:
     return { { offset % m_Size[0], (offset / m_Size[0]) % m_Size[1], offset / m_Strides[2] } };
   }
 
-  /** Whether all four voxels of the block in plane (first, second) with its lowest corner there are in the grid. */
-  bool
-  HoldsBlock(const std::array<std::size_t, 3> & lowestCorner, int first, int second) const
+  /** A change to be made in a cube: voxel `offset` takes `label`; `support` is how many of its face neighbours
+   * already carry that label. */
+  struct Change
   {
-    return lowestCorner[first] + 1 < m_Size[first] && lowestCorner[second] + 1 < m_Size[second];
+    std::size_t offset;
+    Label       label;
+    int         support;
+  };
+
+  void
+  ProcessPending()
+  {
+    while (!m_Pending.empty())
+    {
+      const std::size_t cube = m_Pending.front();
+      m_Pending.pop_front();
+      CheckCube(cube);
+    }
   }
 
   void
-  Check(const VoxelBlock & block)
+  CheckCube(std::size_t cube)
   {
-    const std::size_t lowest = block.corner;
-    const std::size_t alongFirst = lowest + m_Strides[block.first];
-    const std::size_t alongSecond = lowest + m_Strides[block.second];
-    const std::size_t highest = alongFirst + m_Strides[block.second];
-    if (!JoinIfPinched(lowest, highest, alongFirst, alongSecond))
+    std::array<Label, 8> labels;
+    for (int corner = 0; corner < 8; ++corner)
     {
-      JoinIfPinched(alongFirst, alongSecond, lowest, highest);
+      labels[corner] = m_Labels[cube + m_CornerOffsets[corner]];
+    }
+    if (std::all_of(labels.begin(), labels.end(), [&](Label label) { return label == labels[0]; }))
+    {
+      return;
+    }
+    for (int corner = 0; corner < 8; ++corner)
+    {
+      const Label label = labels[corner];
+      if (std::find(labels.begin(), labels.begin() + corner, label) != labels.begin() + corner)
+      {
+        continue;
+      }
+      CubeMask mask = 0;
+      for (int other = 0; other < 8; ++other)
+      {
+        mask |= static_cast<CubeMask>(labels[other] == label) << other;
+      }
+      if (m_IsCritical(mask))
+      {
+        const std::optional<Change> change = BestChange(cube, labels, label, mask);
+        if (change)
+        {
+          Apply(*change);
+          return;
+        }
+      }
     }
   }
 
-  /** Diagonal `a`-`b` of one label, the other diagonal `c`-`d` background: one of c, d takes the label. */
-  bool
-  JoinIfPinched(std::size_t a, std::size_t b, std::size_t c, std::size_t d)
+  /** The pinched label either takes one of the block's voxels from another label (it joins there) or gives one of
+   * its voxels to another label of the block (it is cut there). A change that raises the voxel's rank is always
+   * allowed; one that lowers it only when it removes more pinches around the voxel than it makes, and only once per
+   * voxel, so that the process ends. Of the allowed changes: first those after which the label is no longer pinched
+   * in the block, then the fewest pinches around the voxel after the change, then the voxel with the most face
+   * neighbours of its new label, then raising the rank, joining before cutting, then the lower corner. Voxels on
+   * the grid's border never change. None when no change is allowed. */
+  std::optional<Change>
+  BestChange(std::size_t cube, const std::array<Label, 8> & labels, Label pinched, CubeMask mask) const
   {
-    const Label label = m_Labels[a];
-    if (label == BackgroundLabel || m_Labels[b] != label || m_Labels[c] != BackgroundLabel ||
-        m_Labels[d] != BackgroundLabel)
+    std::optional<Change> best;
+    std::array<int, 5>    bestScore{};
+    const auto            consider = [&](const Change & change, Label from, bool joins, CubeMask maskAfter) {
+      const int  pinchesMade = PinchesMadeBy(change.offset, from, change.label);
+      const bool raisesRank = RankOf(change.label) > RankOf(from);
+      if (!raisesRank && (change.label == BackgroundLabel || pinchesMade >= 0 || m_LoweredOnce[change.offset]))
+      {
+        return;
+      }
+      const std::array<int, 5> score{
+        { m_IsCritical(maskAfter) ? 0 : 1, -pinchesMade, change.support, raisesRank ? 1 : 0, joins ? 1 : 0 }
+      };
+      if (!best || score > bestScore)
+      {
+        best = change;
+        bestScore = score;
+      }
+    };
+    for (int corner = 0; corner < 8; ++corner)
     {
-      return false;
+      const std::size_t offset = cube + m_CornerOffsets[corner];
+      if (IsOnBorder(offset))
+      {
+        continue;
+      }
+      if (labels[corner] != pinched)
+      {
+        consider({ offset, pinched, FaceNeighboursWith(offset, pinched) }, labels[corner], true, mask | (1u << corner));
+        continue;
+      }
+      for (int other = 0; other < 8; ++other)
+      {
+        if (labels[other] != pinched)
+        {
+          consider({ offset, labels[other], FaceNeighboursWith(offset, labels[other]) },
+                   pinched,
+                   false,
+                   mask & ~(1u << corner));
+        }
+      }
     }
-    const std::size_t joining = FaceNeighboursWith(d, label) > FaceNeighboursWith(c, label) ? d : c;
-    m_Labels[joining] = label;
-    ++m_Changed;
-    QueueBlocksAround(joining);
-    return true;
+    return best;
+  }
+
+  /** How many more pinched (label, block) pairs the blocks around `offset` hold after it changes from `from` to
+   * `to` than before: only those two labels' presence changes there. */
+  int
+  PinchesMadeBy(std::size_t offset, Label from, Label to) const
+  {
+    const std::array<std::size_t, 3> coordinates = CoordinatesOf(offset);
+    int                              made = 0;
+    for (int corner = 0; corner < 8; ++corner)
+    {
+      std::size_t cube = offset;
+      bool        inside = true;
+      for (int axis = 0; axis < 3; ++axis)
+      {
+        const std::size_t step = (corner >> axis) & 1;
+        inside = inside && step <= coordinates[axis] && coordinates[axis] - step + 1 < m_Size[axis];
+        cube -= step * m_Strides[axis];
+      }
+      if (!inside)
+      {
+        continue;
+      }
+      CubeMask fromMask = 0;
+      CubeMask toMask = 0;
+      for (int other = 0; other < 8; ++other)
+      {
+        const Label label = m_Labels[cube + m_CornerOffsets[other]];
+        fromMask |= static_cast<CubeMask>(label == from) << other;
+        toMask |= static_cast<CubeMask>(label == to) << other;
+      }
+      const CubeMask bit = 1u << corner;
+      made +=
+        m_IsCritical(fromMask & ~bit) + m_IsCritical(toMask | bit) - m_IsCritical(fromMask) - m_IsCritical(toMask);
+    }
+    return made;
+  }
+
+  bool
+  IsOnBorder(std::size_t offset) const
+  {
+    const std::array<std::size_t, 3> coordinates = CoordinatesOf(offset);
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      if (coordinates[axis] == 0 || coordinates[axis] + 1 == m_Size[axis])
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  void
+  Apply(const Change & change)
+  {
+    if (RankOf(change.label) < RankOf(m_Labels[change.offset]))
+    {
+      m_LoweredOnce[change.offset] = true;
+    }
+    if (!m_HasChanged[change.offset])
+    {
+      m_HasChanged[change.offset] = true;
+      m_Originals.emplace_back(change.offset, m_Labels[change.offset]);
+    }
+    m_Labels[change.offset] = change.label;
+    // The cubes that hold the voxel: a change there can make or unmake a critical configuration in them only.
+    const std::array<std::size_t, 3> coordinates = CoordinatesOf(change.offset);
+    for (int corner = 0; corner < 8; ++corner)
+    {
+      std::size_t cube = change.offset;
+      bool        inside = true;
+      for (int axis = 0; axis < 3; ++axis)
+      {
+        const std::size_t step = (corner >> axis) & 1;
+        inside = inside && step <= coordinates[axis] && coordinates[axis] - step + 1 < m_Size[axis];
+        cube -= step * m_Strides[axis];
+      }
+      if (inside)
+      {
+        m_Pending.push_back(cube);
+      }
+    }
   }
 
   int
@@ -131,53 +382,30 @@ private:
     return count;
   }
 
-  /** The blocks that hold `offset`: a change there can make or unmake a pinch in them only. */
-  void
-  QueueBlocksAround(std::size_t offset)
-  {
-    const std::array<std::size_t, 3> coordinates = CoordinatesOf(offset);
-    ForEachPlane([&](int first, int second) {
-      for (std::size_t stepFirst = 0; stepFirst < 2 && stepFirst <= coordinates[first]; ++stepFirst)
-      {
-        for (std::size_t stepSecond = 0; stepSecond < 2 && stepSecond <= coordinates[second]; ++stepSecond)
-        {
-          std::array<std::size_t, 3> corner = coordinates;
-          corner[first] -= stepFirst;
-          corner[second] -= stepSecond;
-          if (HoldsBlock(corner, first, second))
-          {
-            m_Pending.push_back(
-              { offset - stepFirst * m_Strides[first] - stepSecond * m_Strides[second], first, second });
-          }
-        }
-      }
-    });
-  }
-
-  void
-  ProcessPending()
-  {
-    while (!m_Pending.empty())
-    {
-      const VoxelBlock block = m_Pending.front();
-      m_Pending.pop_front();
-      Check(block);
-    }
-  }
-
-  Label *                          m_Labels;
-  const std::array<std::size_t, 3> m_Size;
-  const std::array<std::size_t, 3> m_Strides;
-  std::deque<VoxelBlock>           m_Pending;
-  std::size_t                      m_Changed{ 0 };
+  Label *                                    m_Labels;
+  const std::array<std::size_t, 3>           m_Size;
+  const std::array<std::size_t, 3>           m_Strides;
+  std::array<std::size_t, 8>                 m_CornerOffsets{};
+  std::unordered_map<Label, std::size_t>     m_Rank;
+  const CriticalConfigurations               m_IsCritical;
+  std::vector<bool>                          m_HasChanged;
+  std::vector<bool>                          m_LoweredOnce;
+  std::deque<std::size_t>                    m_Pending;
+  std::vector<std::pair<std::size_t, Label>> m_Originals;
 };
 
 } // namespace
 
 std::size_t
-JoinDiagonalVoxels(Label * labels, const std::array<std::size_t, 3> & size)
+RemoveVoxelPinches(Label * labels, const std::array<std::size_t, 3> & size, std::vector<std::size_t> * changedVoxels)
 {
-  return DiagonalVoxelJoiner(labels, size).Run();
+  VoxelPinchRemover remover(labels, size);
+  const std::size_t changed = remover.Run();
+  if (changedVoxels)
+  {
+    *changedVoxels = remover.ChangedVoxels();
+  }
+  return changed;
 }
 
 } // namespace delaunay_refinement
