@@ -51,7 +51,8 @@ struct RefinementStatistics
   /** Rounds of local refinement for manifoldness, the zones of smaller δ they created, and the boundary
    * places (vertex and label) still non-manifold at the end. */
   std::size_t manifoldRefinementRounds{ 0 };
-  /** Rounds of the topology regularisation, and the balls in which it changed the oracle's labels. */
+  /** Rounds of the topology regularisation, and the balls in which it changed the oracle's labels (the places'
+   * balls and those of the voxel pinches mended after them). */
   std::size_t topologyRegularizationRounds{ 0 };
   std::size_t regularizedPlaces{ 0 };
   std::size_t manifoldRefinementZones{ 0 };

@@ -105,8 +105,9 @@ public:
   virtual ~TopologyRegularizer();
 
   /** Changes the labels in a ball of `radius` around each place, in the given order, so that the place's label
-   * either fills the ball or leaves it (whichever changes less). Returns the balls in which a label changed;
-   * none when nothing could be changed. */
+   * either fills the ball or leaves it (whichever changes less), and wherever that made the labels pinch. Returns
+   * balls that hold every change (a ball may be larger than `radius`, and a pinch mended outside them has a small
+   * ball of its own); none when nothing could be changed. */
   virtual std::vector<Ball>
   RegularizeAround(const std::vector<NonManifoldPlace> & places, double radius) = 0;
 

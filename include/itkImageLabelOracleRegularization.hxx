@@ -142,11 +142,12 @@ ImageLabelOracle<TInputImage>::RegularizeAround(const std::vector<delaunay_refin
   {
     return balls;
   }
-  const auto & size = m_LabelImage->GetBufferedRegion().GetSize();
+  const auto &             size = m_LabelImage->GetBufferedRegion().GetSize();
+  std::vector<std::size_t> pinchChanges;
   if (m_Mapping.joinDiagonalVoxels)
   {
-    m_NumberOfJoiningVoxels +=
-      delaunay_refinement::JoinDiagonalVoxels(m_LabelImage->GetBufferPointer(), { size[0], size[1], size[2] });
+    m_NumberOfJoiningVoxels += delaunay_refinement::RemoveVoxelPinches(
+      m_LabelImage->GetBufferPointer(), { size[0], size[1], size[2] }, &pinchChanges);
   }
   CountObjectVoxels();
   if (m_NumberOfObjectVoxels == 0)
@@ -158,12 +159,24 @@ ImageLabelOracle<TInputImage>::RegularizeAround(const std::vector<delaunay_refin
   }
   m_NumberOfLocallyRegularizedVoxels += changed;
   BuildNearestInterfaceMap();
-  // A joining voxel lies next to a changed one: the balls grow by a voxel's diagonal to hold every change.
+  // A changed voxel's cube reaches half a diagonal past its centre: the balls grow by a voxel's diagonal to hold
+  // every voxel they changed, and every voxel the pinch removal changed (near the balls, or a chain of changes
+  // away from them) gets a ball of its own, so that every cell whose label may have changed is looked at again.
   const auto & spacing = m_LabelImage->GetSpacing();
   const double voxelDiagonal = std::sqrt(spacing[0] * spacing[0] + spacing[1] * spacing[1] + spacing[2] * spacing[2]);
   for (delaunay_refinement::Ball & ball : balls)
   {
     ball.radius += voxelDiagonal;
+  }
+  for (const std::size_t offset : pinchChanges)
+  {
+    const std::array<uint32_t, 3> coordinates = BufferCoordinatesOf(static_cast<uint32_t>(offset));
+    IndexType                     index;
+    for (unsigned int axis = 0; axis < 3; ++axis)
+    {
+      index[axis] = m_LabelImage->GetBufferedRegion().GetIndex()[axis] + static_cast<IndexValueType>(coordinates[axis]);
+    }
+    balls.push_back({ CenterOf(index), voxelDiagonal });
   }
   return balls;
 }
