@@ -86,6 +86,7 @@ struct Options
   bool                     keepDiagonalVoxels{ false };
   double                   regularizationScale{ FilterDefaults::DefaultRegularizationScale };
   unsigned int             topologyRegularizationRounds{ RefinementParameters{}.topologyRegularizationRounds };
+  bool                     keepNonManifoldPlaces{ !RefinementParameters{}.relabelNonManifoldPlaces };
   unsigned int             manifoldRefinementLevels{ RefinementParameters{}.manifoldRefinementLevels };
   std::optional<double>    isoValue;
   std::size_t              maximumNumberOfVertices{ RefinementParameters{}.maximumNumberOfVertices };
@@ -254,6 +255,10 @@ AddOptions(CLI::App & app, Options & options)
     ->capture_default_str()
     ->check(WholeNumber)
     ->check(CoreRange(&RefinementParameters::topologyRegularizationRounds));
+  app.add_flag("--no-topology-relabelling",
+               options.keepNonManifoldPlaces,
+               "do not give tetrahedra a neighbour's label where a boundary is not a\nmanifold (default: a cone "
+               "there is cut off or a gap filled when that mends\nthe place and keeps the 30 degree bound)");
   app.add_option("--manifold-levels", options.manifoldRefinementLevels)
     ->description("the old repair, opt-in: halve delta up to N times where a boundary is still\nnot a manifold "
                   "(meshes several times larger; default 0 = off)")
@@ -405,6 +410,7 @@ MakeFilter(const TImage * image, const Options & options)
   filter->SetJoinDiagonalVoxels(!options.keepDiagonalVoxels);
   filter->SetRegularizationScale(options.regularizationScale);
   filter->SetTopologyRegularizationRounds(options.topologyRegularizationRounds);
+  filter->SetRelabelNonManifoldPlaces(!options.keepNonManifoldPlaces);
   filter->SetManifoldRefinementLevels(options.manifoldRefinementLevels);
   if (options.isoValue)
   {
@@ -466,6 +472,11 @@ MeshImage(const Options & options)
     std::cout << "removed voxel pinches (labels touching only along a voxel edge or at a corner): "
               << filter->GetNumberOfJoiningVoxels()
               << " voxels changed label (--keep-diagonal-voxels keeps them as they are)\n";
+  }
+  if (!options.quiet && filter->GetNumberOfTopologyRelabelledTetrahedra() > 0)
+  {
+    std::cout << "relabelled at non-manifold places: " << filter->GetNumberOfTopologyRelabelledTetrahedra()
+              << " tetrahedra took a neighbour's label (--no-topology-relabelling keeps them)\n";
   }
   const delaunay_refinement::TetrahedralMesh & mesh = filter->GetRefinedMesh();
   phaseSeconds.emplace_back("mesh", meshTime.Seconds());

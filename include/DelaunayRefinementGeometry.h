@@ -183,6 +183,17 @@ PlanarAngles(const Vector3 & a, const Vector3 & b, const Vector3 & c)
   return { angleAt(a, b, c), angleAt(b, c, a), angleAt(c, a, b) };
 }
 
+/** The circumradius of a triangle, |ab| |bc| |ca| / (4 area). Coincident corners give 0 / 0: infinity is returned
+ * then, since a NaN would drop out of a maximum and hide the degenerate triangle, which has no more a circumcircle
+ * than a collinear one (x / 0 = infinity). */
+inline double
+TriangleCircumradius(const Vector3 & a, const Vector3 & b, const Vector3 & c)
+{
+  const double twiceArea = Norm(Cross(b - a, c - a));
+  const double circumradius = Distance(a, b) * Distance(b, c) * Distance(c, a) / (2.0 * twiceArea);
+  return std::isnan(circumradius) ? std::numeric_limits<double>::infinity() : circumradius;
+}
+
 } // namespace delaunay_refinement
 
 #endif

@@ -57,6 +57,8 @@ struct RefinementStatistics
   std::size_t regularizedPlaces{ 0 };
   std::size_t manifoldRefinementZones{ 0 };
   std::size_t remainingNonManifoldVertices{ 0 };
+  /** Tetrahedra given a neighbour's label where a boundary was not a manifold (relabelNonManifoldPlaces). */
+  std::size_t topologyRelabelledTetrahedra{ 0 };
   /** Tetrahedra flat to rounding on a boundary, given the label beyond it (docs/algorithm.md, "Flat caps"). */
   std::size_t flatCapsRelabelled{ 0 };
   /** The smallest local δ the refinement used (δ itself unless the manifold refinement refined somewhere):

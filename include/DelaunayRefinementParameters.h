@@ -45,6 +45,10 @@ struct RefinementParameters
    * in a ball of radius δ around each such place and the refinement resumes there, at most this many rounds
    * (docs/algorithm.md, "Topology"). 0 = never. Must be in [0, 20]. */
   unsigned int topologyRegularizationRounds{ 6 };
+  /** Where a boundary comes out non-manifold, first give tetrahedra there a neighbour's label when that mends the
+   * place and keeps the boundary on the surface with angles above 30° (docs/algorithm.md, "Topology"); the
+   * regularisation rounds then see only the places this could not mend. */
+  bool relabelNonManifoldPlaces{ true };
   /** The old repair, an opt-in: where a tissue's boundary comes out non-manifold, δ is halved locally and the
    * refinement resumed, at most this many times (down to δ / 2^levels), after the regularisation rounds. It
    * resolves detail toward the voxel instead of removing it: meshes several times larger. 0 (the default) = off.

@@ -144,6 +144,9 @@ struct TetrahedralMesh
    * (R3's threshold there is also a facet's shortest edge, which carries a zone's δ beyond it). Exported so that
    * tests check edges against the sizing actually used rather than against the refinement's statistics. */
   std::vector<double> pointSamplingDistances;
+  /** The tetrahedra (indices, increasing) whose label is not the one at their circumcentre but a neighbour's, given
+   * where a boundary was not a 2-manifold (docs/algorithm.md, "Topology"). */
+  std::vector<uint32_t> topologyRelabelledTetrahedra;
 };
 
 } // namespace delaunay_refinement

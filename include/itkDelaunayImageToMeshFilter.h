@@ -157,6 +157,22 @@ public:
   /** How many voxels the last update's local regularisation (TopologyRegularizationRounds) changed. */
   itkGetConstMacro(NumberOfLocallyRegularizedVoxels, SizeValueType);
 
+  /** Where a boundary comes out non-manifold, first give tetrahedra there the label of a neighbour when that mends
+   * the place, keeps the boundary made of surface samples and keeps its angles above 30° (a cone cut off, a gap
+   * filled, within the place's star); the regularisation rounds then see only the places this could not mend. Those
+   * tetrahedra no longer carry the label at their circumcentre: how many, in
+   * GetNumberOfTopologyRelabelledTetrahedra(). Default
+   * delaunay_refinement::RefinementParameters{}.relabelNonManifoldPlaces (on). */
+  itkSetMacro(RelabelNonManifoldPlaces, bool);
+  itkGetConstMacro(RelabelNonManifoldPlaces, bool);
+  itkBooleanMacro(RelabelNonManifoldPlaces);
+  /** How many output tetrahedra the last update relabelled at non-manifold places (RelabelNonManifoldPlaces). */
+  SizeValueType
+  GetNumberOfTopologyRelabelledTetrahedra() const
+  {
+    return static_cast<SizeValueType>(GetRefinementStatistics().topologyRelabelledTetrahedra);
+  }
+
   /** A cap on the vertices of the triangulation; reaching it raises an exception. Default 10,000,000. */
   itkSetMacro(MaximumNumberOfVertices, SizeValueType);
   itkGetConstMacro(MaximumNumberOfVertices, SizeValueType);
@@ -309,8 +325,9 @@ private:
   unsigned int  m_TopologyRegularizationRounds{
     delaunay_refinement::RefinementParameters{}.topologyRegularizationRounds
   };
-  SizeValueType       m_NumberOfLocallyRegularizedVoxels{ 0 };
-  SizeValueType       m_NumberOfJoiningVoxels{ 0 };
+  bool          m_RelabelNonManifoldPlaces{ delaunay_refinement::RefinementParameters{}.relabelNonManifoldPlaces };
+  SizeValueType m_NumberOfLocallyRegularizedVoxels{ 0 };
+  SizeValueType m_NumberOfJoiningVoxels{ 0 };
   InterpolatorPointer m_Interpolator;
   double              m_IsoValue{ 0.0 };
   bool                m_UseIsoValue{ false };

@@ -30,6 +30,7 @@
 #include <array>
 #include <cstdint>
 #include <utility>
+#include <tuple>
 #include <vector>
 
 namespace delaunay_refinement
@@ -166,18 +167,23 @@ private:
   void
   AddTetrahedra(const std::vector<CellHandle> & objectCells, TetrahedralMesh & mesh) const
   {
-    std::vector<std::pair<std::array<uint32_t, 4>, Label>> tetrahedra;
+    std::vector<std::tuple<std::array<uint32_t, 4>, Label, bool>> tetrahedra;
     for (CellHandle cell : objectCells)
     {
       tetrahedra.emplace_back(CanonicalTetrahedron({ cell->vertex(0)->info().outputIndex,
                                                      cell->vertex(1)->info().outputIndex,
                                                      cell->vertex(2)->info().outputIndex,
                                                      cell->vertex(3)->info().outputIndex }),
-                              cell->cache.label);
+                              cell->cache.label,
+                              cell->cache.relabelledForTopology);
     }
     std::sort(tetrahedra.begin(), tetrahedra.end());
-    for (const auto & [indices, label] : tetrahedra)
+    for (const auto & [indices, label, relabelled] : tetrahedra)
     {
+      if (relabelled)
+      {
+        mesh.topologyRelabelledTetrahedra.push_back(static_cast<uint32_t>(mesh.tetrahedra.size()));
+      }
       mesh.tetrahedra.push_back(indices);
       mesh.tetrahedronLabels.push_back(label);
     }

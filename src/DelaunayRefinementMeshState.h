@@ -162,6 +162,7 @@ public:
     cache.label = m_Oracle.LabelAt(cache.circumcenter);
     cache.surfaceDistance = CellCache::NotYetComputed;
     cache.stamp = ++m_LastStamp;
+    cache.relabelledForTopology = false;
   }
 
   Label

@@ -26,6 +26,7 @@
 // - DelaunayRefinementSliverSplit.h: where R4' splits a sliver;
 // - DelaunayRefinementBoxProtection.h: the bounding box and E1-E3;
 // - DelaunayRefinementManifoldRepair.h: local refinement where a tissue's boundary is not a manifold;
+// - DelaunayRefinementTopologyRelabel.h: tetrahedra relabelled where a boundary is not a manifold;
 // - DelaunayRefinementFlatCaps.h: tetrahedra flat to rounding on a boundary;
 // - DelaunayRefinementExtraction.h: the output mesh.
 // This is the only translation unit that includes CGAL's triangulation: one slow compile.
@@ -34,6 +35,7 @@
 #include "DelaunayRefinementBoxProtection.h"
 #include "DelaunayRefinementExtraction.h"
 #include "DelaunayRefinementFlatCaps.h"
+#include "DelaunayRefinementTopologyRelabel.h"
 #include "DelaunayRefinementManifoldRepair.h"
 #include "DelaunayRefinementMeshState.h"
 #include "DelaunayRefinementQueue.h"
@@ -97,7 +99,8 @@ public:
     m_Statistics.flatCapsRelabelled = FlatCaps(m_State, m_Repair).Relabel();
     const auto      extractionStart = std::chrono::steady_clock::now();
     TetrahedralMesh mesh = m_Extraction.ExtractMesh(m_Sizing);
-    const auto      end = std::chrono::steady_clock::now();
+    m_Statistics.topologyRelabelledTetrahedra = mesh.topologyRelabelledTetrahedra.size();
+    const auto end = std::chrono::steady_clock::now();
 
     m_Statistics.deletedVertices = m_State.NumberOfDeletedVertices();
     m_Statistics.triangulationVertices = m_State.GetTriangulation().number_of_vertices();
@@ -209,32 +212,51 @@ private:
     }
   }
 
-  /** Alternates the manifold check and a repair until every boundary is a manifold or no repair is left: first the
-   * regularisation of the oracle's labels around the places (when the oracle allows it, at most
-   * topologyRegularizationRounds rounds), then, as an opt-in, the local halving of δ (ManifoldRepair). */
+  /** Alternates the manifold check and a repair until every boundary is a manifold or no repair is left: first
+   * the relabelling of tetrahedra at the places (TopologyRelabel, when relabelNonManifoldPlaces), then, for the
+   * places it could not mend, the regularisation of the oracle's labels around them (when the oracle allows it, at
+   * most topologyRegularizationRounds rounds), then, as an opt-in, the local halving of δ (ManifoldRepair). The
+   * relabelled tetrahedra get their labels back before the refinement resumes: its rules read labels as the
+   * oracle's. */
   void
   RepairTopology()
   {
-    NonManifoldPlaces places = m_Repair.FindNonManifoldPlaces();
+    NonManifoldPlaces places = RelabelAndFindNonManifoldPlaces();
     while (!places.places.empty())
     {
+      m_Relabelling.Revert();
+      bool repaired = false;
       if (m_Regularizer && m_Statistics.topologyRegularizationRounds < m_Parameters.topologyRegularizationRounds)
       {
-        if (!RegularizeAround(places))
-        {
-          break;
-        }
+        repaired = RegularizeAround(places);
       }
-      else if (!HalveDeltaAround(places))
+      else
+      {
+        repaired = HalveDeltaAround(places);
+      }
+      if (repaired)
+      {
+        RefineUntilNoRuleApplies();
+      }
+      places = RelabelAndFindNonManifoldPlaces();
+      if (!repaired)
       {
         break;
       }
-      RefineUntilNoRuleApplies();
-      places = m_Repair.FindNonManifoldPlaces();
     }
     m_Statistics.manifoldRefinementZones = m_Sizing.NumberOfZones();
     m_Statistics.finestSurfaceSamplingDistance = m_Sizing.FinestDelta();
     m_Statistics.remainingNonManifoldVertices = places.places.size();
+  }
+
+  NonManifoldPlaces
+  RelabelAndFindNonManifoldPlaces()
+  {
+    if (m_Parameters.relabelNonManifoldPlaces)
+    {
+      m_Relabelling.Relabel();
+    }
+    return m_Repair.FindNonManifoldPlaces();
   }
 
   /** The oracle's labels change in a ball of radius δ around each place; the surface samples inside go (they are
@@ -306,6 +328,7 @@ private:
   RefinementRules              m_Rules;
   MeshExtraction               m_Extraction;
   ManifoldRepair               m_Repair;
+  TopologyRelabel              m_Relabelling{ m_State, m_Sizing };
   RefinementQueue              m_Queue;
   double                       m_ProgressFraction{ 0.0 };
 };

@@ -75,6 +75,9 @@ struct CellCache
    * is in use and still carries the stamp it was queued with. (CGAL's erase counters would do, but GCC's
    * lifetime dead-store elimination drops the counter's stores made before a slot is reconstructed.) */
   uint64_t stamp{ 0 };
+  /** The label is a neighbour's, given at a non-manifold place (DelaunayRefinementTopologyRelabel.h), not the
+   * oracle's at the circumcentre. */
+  bool relabelledForTopology{ false };
 };
 
 /** A Delaunay cell that carries the rules' cache. */

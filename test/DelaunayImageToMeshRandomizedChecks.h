@@ -43,6 +43,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <map>
 #include <optional>
 #include <random>
 #include <set>
@@ -256,6 +257,7 @@ struct FilterSettings
   /** The filter's default unless a case turns it off. */
   double regularizationScale{ DelaunayImageToMeshFilter<Image<uint8_t, 3>, MeshType>::DefaultRegularizationScale };
   unsigned int topologyRegularizationRounds{ dr::RefinementParameters{}.topologyRegularizationRounds };
+  bool         relabelNonManifoldPlaces{ dr::RefinementParameters{}.relabelNonManifoldPlaces };
   /** The filter's default: voxels of a tissue touching only along an edge are joined (nearest-neighbour labels). */
   bool joinDiagonalVoxels{ true };
   /** Wall-clock budget of one run; the run is aborted through AbortGenerateData when it is exceeded. */
@@ -621,7 +623,26 @@ MeshedLabelFunction(const TImage & image, const TFilter & filter, const FilterSe
  * Voxel-derived circumcentres often lie exactly on a voxel face, edge or corner, where a rounding difference
  * between the core's circumcentre and ours flips the nearest voxel: a label seen within a hair of the
  * circumcentre is accepted.
- * Tetrahedra flatter than 1e-6 relative volume are skipped: their recomputed circumcentre is not trustworthy. */
+ * Tetrahedra flatter than 1e-6 relative volume are skipped: their recomputed circumcentre is not trustworthy.
+ * The tetrahedra the mesh says it relabelled at non-manifold places (docs/algorithm.md, "Topology") carry a
+ * neighbour's label instead: one of their face neighbours in the mesh must carry it too. */
+/** The facet of a tetrahedron opposite corner `skipped`, its indices sorted. */
+inline std::array<uint32_t, 3>
+SortedFacet(const std::array<uint32_t, 4> & tetrahedron, int skipped)
+{
+  std::array<uint32_t, 3> facet{};
+  int                     count = 0;
+  for (int corner = 0; corner < 4; ++corner)
+  {
+    if (corner != skipped)
+    {
+      facet[count++] = tetrahedron[corner];
+    }
+  }
+  std::sort(facet.begin(), facet.end());
+  return facet;
+}
+
 template <typename TImage, typename TFilter>
 void
 CheckCircumcenterLabels(const TImage & image, const TFilter & filter, const FilterSettings & settings,
@@ -632,8 +653,39 @@ CheckCircumcenterLabels(const TImage & image, const TFilter & filter, const Filt
   const auto & spacing = image.GetSpacing();
   const double hair = 1e-6 * *std::max_element(spacing.Begin(), spacing.End());
   std::size_t  wrong = 0;
+  // The outputs hold the refined mesh's tetrahedra in its order (CheckOutputsAgree), not its relabelling list.
+  const std::vector<uint32_t> & relabelledList = filter.GetRefinedMesh().topologyRelabelledTetrahedra;
+  const std::set<uint32_t>      relabelled(relabelledList.begin(), relabelledList.end());
+  std::map<std::array<uint32_t, 3>, std::vector<std::size_t>> tetrahedraOfFacet;
+  if (!relabelled.empty())
+  {
+    for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
+    {
+      for (int skipped = 0; skipped < 4; ++skipped)
+      {
+        tetrahedraOfFacet[SortedFacet(mesh.tetrahedra[t], skipped)].push_back(t);
+      }
+    }
+  }
   for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
   {
+    if (relabelled.count(static_cast<uint32_t>(t)) != 0)
+    {
+      bool sharedWithANeighbour = false;
+      for (int skipped = 0; skipped < 4; ++skipped)
+      {
+        for (const std::size_t other : tetrahedraOfFacet.at(SortedFacet(mesh.tetrahedra[t], skipped)))
+        {
+          sharedWithANeighbour =
+            sharedWithANeighbour || (other != t && mesh.tetrahedronLabels[other] == mesh.tetrahedronLabels[t]);
+        }
+      }
+      if (!sharedWithANeighbour)
+      {
+        violations.Add("tetrahedron ", t, " was relabelled at a non-manifold place but no neighbour has its label");
+      }
+      continue;
+    }
     const std::array<dr::Vector3, 4> corners = CornersOf(mesh, t);
     dr::Vector3                      center;
     const double                     radius = CircumradiusOf(corners, center);
@@ -1163,6 +1215,7 @@ RunAndCheck(const TImage * image, const FilterSettings & settings)
   filter->SetJoinDiagonalVoxels(settings.joinDiagonalVoxels);
   filter->SetRegularizationScale(settings.regularizationScale);
   filter->SetTopologyRegularizationRounds(settings.topologyRegularizationRounds);
+  filter->SetRelabelNonManifoldPlaces(settings.relabelNonManifoldPlaces);
   if (settings.isoValue)
   {
     filter->SetIsoValue(*settings.isoValue);

@@ -995,6 +995,7 @@ ExpectReplayPasses(const RecordedCase & recorded)
   randomCase.settings.manifoldRefinementLevels = 3;
   randomCase.settings.regularizationScale = 0.0;
   randomCase.settings.topologyRegularizationRounds = 0;
+  randomCase.settings.relabelNonManifoldPlaces = false;
   ASSERT_EQ(Fingerprint(randomCase), recorded.fingerprint)
     << "the generator changed: " << Describe(randomCase) << " is no longer the recorded case";
   const CaseReport report = RunCase(randomCase);
@@ -1021,10 +1022,15 @@ TEST(RandomizedRegression, FloatingPointCircumcentresOfNearlyFlatTetrahedra)
 // ---- Known defects, pinned: when one is fixed its test fails, and the check it is excused from gets strict -----
 
 /** A component that holds a ball of diameter δ, but not 2δ, may have no tetrahedron although the regularisation kept
- * it (ThickComponentRadius()): here three single voxels of 0.665 mm at δ = 0.587 mm (a ball of radius 0.57 δ each). */
+ * it (ThickComponentRadius()): here three single voxels of 0.665 mm at δ = 0.587 mm (a ball of radius 0.57 δ each).
+ * Pinned with the relabelling at non-manifold places off: with it (the default) this case happens to keep them,
+ * because the voxels' tetrahedra met the rest at non-manifold vertices that the relabelling mends, but nothing in it
+ * keeps such components in general. */
 TEST(RandomizedKnownDefect, ComponentsADeltaAcrossCanBeLost)
 {
-  const CaseReport report = RunCase(MakeCase(Family::Mixed, 8000038));
+  RandomCase randomCase = MakeCase(Family::Mixed, 8000038);
+  randomCase.settings.relabelNonManifoldPlaces = false;
+  const CaseReport report = RunCase(randomCase);
   ASSERT_EQ(report.result.outcome, Outcome::Mesh);
   EXPECT_TRUE(report.problems.empty()) << report.problems.front();
   EXPECT_GT(report.result.lostComponentsAboutADeltaAcross, 0u)
@@ -1053,6 +1059,7 @@ TEST(RandomizedKnownDefect, OptInManifoldRefinementJumpsWithTheLastBitsOfDelta)
   randomCase.settings.manifoldRefinementLevels = 3;
   randomCase.settings.regularizationScale = 0.0;
   randomCase.settings.topologyRegularizationRounds = 0;
+  randomCase.settings.relabelNonManifoldPlaces = false;
   const double delta = EffectiveDelta(randomCase);
   randomCase.settings.surfaceSamplingDistance = delta;
   const CaseReport atDelta = RunCase(randomCase);

@@ -1,0 +1,565 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef DelaunayRefinementTopologyRelabel_h
+#define DelaunayRefinementTopologyRelabel_h
+
+// Relabelling at the places still non-manifold (docs/algorithm.md, "Topology", step 3). A label's boundary is a
+// manifold at a vertex when the vertex's link in it (the edges opposite the vertex in its boundary facets) is empty
+// or one cycle; that depends on the vertex's star only, so every check here is local. At a vertex where some
+// boundary is not a manifold, a tetrahedron of the star, or a group of the star's tetrahedra on one side of the
+// offending boundary (a cone to cut off, a gap to fill), may take the label of the other side, when that leaves
+// fewer non-manifold (vertex, label) pairs at the corners of the changed tetrahedra (the only vertices whose star
+// changes) and every facet it puts on a boundary has its three corners on the surface (feature vertices) and its
+// angles above 30° and its circumradius below δ: the boundary stays made of surface samples and keeps the bounds
+// of R1 and R3. Each move lowers the number of non-manifold pairs, so the process ends. The changed tetrahedra no
+// longer carry the label at their circumcentre; they are marked, counted, exported, and given their label back before
+// the refinement resumes.
+
+#include "DelaunayRefinementGeometry.h"
+#include "DelaunayRefinementMeshState.h"
+#include "DelaunayRefinementSizing.h"
+
+#include <algorithm>
+#include <array>
+#include <map>
+#include <set>
+#include <utility>
+#include <vector>
+
+namespace delaunay_refinement
+{
+namespace detail
+{
+
+class TopologyRelabel
+{
+public:
+  TopologyRelabel(MeshState & state, const LocalSampling & sizing)
+    : m_State(state)
+    , m_Sizing(sizing)
+  {}
+
+  /** Relabels at the non-manifold places while a move removes some; returns how many tetrahedra took another
+   * label. */
+  std::size_t
+  Relabel()
+  {
+    std::vector<VertexHandle> candidates = NonManifoldVertices();
+    while (!candidates.empty())
+    {
+      std::vector<VertexHandle> touched;
+      for (const VertexHandle vertex : candidates)
+      {
+        if (NonManifoldLabelsAt(vertex) > 0)
+        {
+          RelabelBestAround(vertex, touched);
+        }
+      }
+      // Only the corners of changed tetrahedra have a new star: the next pass looks at those still offending.
+      std::sort(touched.begin(), touched.end(), ById);
+      touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+      candidates.clear();
+      for (const VertexHandle vertex : touched)
+      {
+        if (vertex->info().kind == VertexKind::Feature && NonManifoldLabelsAt(vertex) > 0)
+        {
+          candidates.push_back(vertex);
+        }
+      }
+    }
+    // A tetrahedron moved back to its own label by a later move is not relabelled.
+    for (const Change & change : m_Changes)
+    {
+      if (change.cell->cache.label == change.originalLabel)
+      {
+        change.cell->cache.relabelledForTopology = false;
+      }
+    }
+    return NumberOfRelabelled();
+  }
+
+  /** Gives every relabelled tetrahedron that still exists its label back (the oracle's at its circumcentre). */
+  void
+  Revert()
+  {
+    for (const Change & change : m_Changes)
+    {
+      if (change.cell->cache.stamp == change.stamp && change.cell->cache.relabelledForTopology)
+      {
+        change.cell->cache.label = change.originalLabel;
+        change.cell->cache.relabelledForTopology = false;
+      }
+    }
+    m_Changes.clear();
+  }
+
+private:
+  struct Change
+  {
+    CellHandle cell;
+    uint64_t   stamp;
+    Label      originalLabel;
+  };
+
+  static bool
+  ById(VertexHandle a, VertexHandle b)
+  {
+    return a->info().id < b->info().id;
+  }
+
+  std::size_t
+  NumberOfRelabelled() const
+  {
+    std::size_t count = 0;
+    for (const Change & change : m_Changes)
+    {
+      count += change.cell->cache.stamp == change.stamp && change.cell->cache.relabelledForTopology ? 1 : 0;
+    }
+    return count;
+  }
+
+  std::vector<VertexHandle>
+  NonManifoldVertices() const
+  {
+    std::vector<VertexHandle> vertices;
+    const Triangulation &     triangulation = m_State.GetTriangulation();
+    for (auto vertex = triangulation.finite_vertices_begin(); vertex != triangulation.finite_vertices_end(); ++vertex)
+    {
+      if (vertex->info().kind == VertexKind::Feature && NonManifoldLabelsAt(vertex) > 0)
+      {
+        vertices.push_back(vertex);
+      }
+    }
+    std::sort(vertices.begin(), vertices.end(), ById);
+    return vertices;
+  }
+
+  /** How many labels' boundaries (the union's, keyed by the background, included) are not a manifold at the
+   * vertex: the facets of the star that separate the label from another make the label's link, which must be
+   * empty or one cycle. */
+  int
+  NonManifoldLabelsAt(VertexHandle vertex) const
+  {
+    const Triangulation &   triangulation = m_State.GetTriangulation();
+    std::vector<CellHandle> star;
+    triangulation.incident_cells(vertex, std::back_inserter(star));
+    std::map<Label, std::vector<std::pair<VertexHandle, VertexHandle>>> links;
+    for (const CellHandle cell : star)
+    {
+      const int   own = cell->index(vertex);
+      const Label label = LabelOf(cell);
+      for (int facet = 0; facet < 4; ++facet)
+      {
+        if (facet == own)
+        {
+          continue;
+        }
+        const CellHandle neighbor = cell->neighbor(facet);
+        const Label      other = LabelOf(neighbor);
+        // Each facet is seen from both sides: once is enough.
+        if (label == other || neighbor < cell)
+        {
+          continue;
+        }
+        std::array<VertexHandle, 2> edge{};
+        int                         count = 0;
+        for (int corner = 0; corner < 4; ++corner)
+        {
+          if (corner != facet && corner != own)
+          {
+            edge[count++] = cell->vertex(corner);
+          }
+        }
+        const auto link = std::make_pair(edge[0], edge[1]);
+        if (label != BackgroundLabel)
+        {
+          links[label].push_back(link);
+        }
+        if (other != BackgroundLabel)
+        {
+          links[other].push_back(link);
+        }
+        if ((label == BackgroundLabel) != (other == BackgroundLabel))
+        {
+          links[UnionKey].push_back(link);
+        }
+      }
+    }
+    int nonManifold = 0;
+    for (const auto & labelLink : links)
+    {
+      nonManifold += IsOneCycle(labelLink.second) ? 0 : 1;
+    }
+    return nonManifold;
+  }
+
+  static bool
+  IsOneCycle(const std::vector<std::pair<VertexHandle, VertexHandle>> & edges)
+  {
+    std::map<VertexHandle, std::vector<VertexHandle>> adjacent;
+    for (const auto & edge : edges)
+    {
+      adjacent[edge.first].push_back(edge.second);
+      adjacent[edge.second].push_back(edge.first);
+    }
+    for (const auto & vertexNeighbors : adjacent)
+    {
+      if (vertexNeighbors.second.size() != 2)
+      {
+        return false;
+      }
+    }
+    // Walk the cycle from one vertex: it must visit every vertex.
+    const VertexHandle start = adjacent.begin()->first;
+    VertexHandle       previous = start;
+    VertexHandle       current = adjacent[start][0];
+    std::size_t        length = 1;
+    while (current != start && length <= adjacent.size())
+    {
+      const std::vector<VertexHandle> & next = adjacent[current];
+      const VertexHandle                following = next[0] == previous ? next[1] : next[0];
+      previous = current;
+      current = following;
+      ++length;
+    }
+    return current == start && length == adjacent.size();
+  }
+
+  Label
+  LabelOf(CellHandle cell) const
+  {
+    return m_State.GetTriangulation().is_infinite(cell) ? BackgroundLabel : cell->cache.label;
+  }
+
+  /** A change: the cells all take `label`. */
+  struct Move
+  {
+    std::vector<CellHandle> cells;
+    Label                   label{ BackgroundLabel };
+  };
+
+  /** Whether every facet that the move puts on a boundary has its corners on the surface and its angles above
+   * 30°; with the move applied. */
+  bool
+  NewBoundaryFacetsAreGood(const Move & move, const std::vector<Label> & oldLabels) const
+  {
+    for (std::size_t index = 0; index < move.cells.size(); ++index)
+    {
+      const CellHandle cell = move.cells[index];
+      for (int facet = 0; facet < 4; ++facet)
+      {
+        const CellHandle neighbor = cell->neighbor(facet);
+        const auto       inMove = std::find(move.cells.begin(), move.cells.end(), neighbor);
+        const Label      beyondBefore = inMove == move.cells.end()
+                                          ? LabelOf(neighbor)
+                                          : oldLabels[static_cast<std::size_t>(inMove - move.cells.begin())];
+        const bool       boundaryBefore = beyondBefore != oldLabels[index];
+        const bool       boundaryAfter = LabelOf(neighbor) != cell->cache.label;
+        if (boundaryBefore || !boundaryAfter)
+        {
+          continue;
+        }
+        std::array<Vector3, 3> corners;
+        for (int corner = 0; corner < 3; ++corner)
+        {
+          const VertexHandle vertex = cell->vertex(Triangulation::vertex_triple_index(facet, corner));
+          if (vertex->info().kind != VertexKind::Feature)
+          {
+            return false;
+          }
+          corners[corner] = m_State.PointOf(vertex);
+        }
+        const std::array<double, 3> angles = PlanarAngles(corners[0], corners[1], corners[2]);
+        if (*std::min_element(angles.begin(), angles.end()) <= 30.0)
+        {
+          return false;
+        }
+        // R1's bound: a boundary facet's circumradius stays below the local δ.
+        double localDelta = m_Sizing.LocalDelta(corners[0]);
+        for (int corner = 1; corner < 3; ++corner)
+        {
+          localDelta = std::min(localDelta, m_Sizing.LocalDelta(corners[corner]));
+        }
+        if (!(TriangleCircumradius(corners[0], corners[1], corners[2]) < localDelta))
+        {
+          return false;
+        }
+      }
+    }
+    return true;
+  }
+
+  /** How many non-manifold (vertex, label) pairs the move removes; below 1 when it is not allowed. The move is
+   * undone before returning. */
+  int
+  GainOf(const Move & move) const
+  {
+    std::vector<VertexHandle> corners;
+    for (const CellHandle cell : move.cells)
+    {
+      for (int corner = 0; corner < 4; ++corner)
+      {
+        corners.push_back(cell->vertex(corner));
+      }
+    }
+    std::sort(corners.begin(), corners.end());
+    corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+    int before = 0;
+    for (const VertexHandle corner : corners)
+    {
+      before += NonManifoldLabelsAt(corner);
+    }
+    // The cells whose face neighbours change: the move's and their neighbours.
+    std::vector<CellHandle> near = move.cells;
+    for (const CellHandle cell : move.cells)
+    {
+      for (int facet = 0; facet < 4; ++facet)
+      {
+        near.push_back(cell->neighbor(facet));
+      }
+    }
+    std::sort(near.begin(), near.end());
+    near.erase(std::unique(near.begin(), near.end()), near.end());
+    const std::size_t  isolatedBefore = CountIsolated(near);
+    std::vector<Label> oldLabels;
+    for (const CellHandle cell : move.cells)
+    {
+      oldLabels.push_back(cell->cache.label);
+      cell->cache.label = move.label;
+    }
+    int gain = 0;
+    if (CountIsolated(near) <= isolatedBefore && NewBoundaryFacetsAreGood(move, oldLabels))
+    {
+      int after = 0;
+      for (const VertexHandle corner : corners)
+      {
+        after += NonManifoldLabelsAt(corner);
+      }
+      gain = before - after;
+    }
+    for (std::size_t index = 0; index < move.cells.size(); ++index)
+    {
+      move.cells[index]->cache.label = oldLabels[index];
+    }
+    return gain;
+  }
+
+  /** How many of the cells carry a tissue's label that none of their face neighbours carries: a move must not make
+   * such one-tetrahedron components (nor leave a relabelled tetrahedron alone with its new label). */
+  std::size_t
+  CountIsolated(const std::vector<CellHandle> & cells) const
+  {
+    std::size_t isolated = 0;
+    for (const CellHandle cell : cells)
+    {
+      const Label label = LabelOf(cell);
+      if (label == BackgroundLabel)
+      {
+        continue;
+      }
+      bool shared = false;
+      for (int facet = 0; facet < 4 && !shared; ++facet)
+      {
+        shared = LabelOf(cell->neighbor(facet)) == label;
+      }
+      isolated += shared ? 0 : 1;
+    }
+    return isolated;
+  }
+
+  /** The moves tried at a vertex: each finite cell of the star taking a neighbour's label; and, for each label
+   * whose boundary is not a manifold there, each group of the star's cells on one side of it (connected through
+   * facets at the vertex) taking the other side's label: a cone cut off, or a gap filled. */
+  std::vector<Move>
+  MovesAround(VertexHandle vertex, const std::vector<CellHandle> & star) const
+  {
+    const Triangulation & triangulation = m_State.GetTriangulation();
+    std::vector<Move>     moves;
+    std::set<Label>       labelsHere;
+    for (const CellHandle cell : star)
+    {
+      labelsHere.insert(LabelOf(cell));
+      if (triangulation.is_infinite(cell))
+      {
+        continue;
+      }
+      std::set<Label> candidates;
+      for (int facet = 0; facet < 4; ++facet)
+      {
+        candidates.insert(LabelOf(cell->neighbor(facet)));
+      }
+      candidates.erase(cell->cache.label);
+      for (const Label candidate : candidates)
+      {
+        moves.push_back({ { cell }, candidate });
+      }
+    }
+    labelsHere.insert(UnionKey);
+    for (const Label key : labelsHere)
+    {
+      const auto inside = [&](CellHandle cell) {
+        return key == UnionKey ? LabelOf(cell) != BackgroundLabel : LabelOf(cell) == key;
+      };
+      for (const std::vector<CellHandle> & group : GroupsAround(vertex, star, inside))
+      {
+        if (std::any_of(group.begin(), group.end(), [&](CellHandle cell) { return triangulation.is_infinite(cell); }))
+        {
+          continue;
+        }
+        const bool groupInside = inside(group.front());
+        Label      label = key;
+        if (groupInside || key == UnionKey)
+        {
+          // The most frequent label beyond the group on the other side.
+          std::map<Label, int> beyond;
+          for (const CellHandle cell : group)
+          {
+            for (int facet = 0; facet < 4; ++facet)
+            {
+              const CellHandle neighbor = cell->neighbor(facet);
+              if (inside(neighbor) != groupInside)
+              {
+                ++beyond[LabelOf(neighbor)];
+              }
+            }
+          }
+          if (beyond.empty())
+          {
+            continue;
+          }
+          label = std::max_element(beyond.begin(), beyond.end(), [](const auto & a, const auto & b) {
+                    return a.second < b.second;
+                  })->first;
+        }
+        moves.push_back({ group, label });
+      }
+    }
+    return moves;
+  }
+
+  /** The star's cells on each side of `inside`, in groups connected through the facets at the vertex; only when
+   * one side has more than one group (the vertex is a pinch of that side). */
+  template <typename TInside>
+  std::vector<std::vector<CellHandle>>
+  GroupsAround(VertexHandle vertex, const std::vector<CellHandle> & star, const TInside & inside) const
+  {
+    std::map<CellHandle, int> groupOf;
+    for (const CellHandle cell : star)
+    {
+      groupOf[cell] = -1;
+    }
+    std::vector<std::vector<CellHandle>> groups;
+    for (const CellHandle seed : star)
+    {
+      if (groupOf[seed] >= 0)
+      {
+        continue;
+      }
+      const bool side = inside(seed);
+      groupOf[seed] = static_cast<int>(groups.size());
+      groups.push_back({ seed });
+      for (std::size_t next = 0; next < groups.back().size(); ++next)
+      {
+        const CellHandle cell = groups.back()[next];
+        const int        own = cell->index(vertex);
+        for (int facet = 0; facet < 4; ++facet)
+        {
+          const CellHandle neighbor = cell->neighbor(facet);
+          if (facet == own || inside(neighbor) != side || groupOf.at(neighbor) >= 0)
+          {
+            continue;
+          }
+          groupOf[neighbor] = groupOf[seed];
+          groups.back().push_back(neighbor);
+        }
+      }
+    }
+    int insideGroups = 0;
+    for (const auto & group : groups)
+    {
+      insideGroups += inside(group.front()) ? 1 : 0;
+    }
+    const int outsideGroups = static_cast<int>(groups.size()) - insideGroups;
+    if (insideGroups <= 1 && outsideGroups <= 1)
+    {
+      return {};
+    }
+    return groups;
+  }
+
+  /** Applies the move at the vertex that removes the most non-manifold pairs (ties: the fewest tetrahedra, then
+   * the first in a fixed order); the corners of its tetrahedra go to `touched`. False when no move removes any. */
+  bool
+  RelabelBestAround(VertexHandle vertex, std::vector<VertexHandle> & touched)
+  {
+    const Triangulation &   triangulation = m_State.GetTriangulation();
+    std::vector<CellHandle> star;
+    triangulation.incident_cells(vertex, std::back_inserter(star));
+    // Handles are addresses: the order comes from the vertices' insertion ids, so that the result does not.
+    std::sort(star.begin(), star.end(), [&triangulation](CellHandle a, CellHandle b) {
+      const bool aInfinite = triangulation.is_infinite(a);
+      const bool bInfinite = triangulation.is_infinite(b);
+      if (aInfinite || bInfinite)
+      {
+        return !aInfinite && bInfinite;
+      }
+      return MeshState::SortedVertexIds(a) < MeshState::SortedVertexIds(b);
+    });
+    const std::vector<Move> moves = MovesAround(vertex, star);
+    int                     bestGain = 0;
+    const Move *            best = nullptr;
+    for (const Move & move : moves)
+    {
+      const int gain = GainOf(move);
+      if (gain > bestGain || (gain > 0 && gain == bestGain && move.cells.size() < best->cells.size()))
+      {
+        bestGain = gain;
+        best = &move;
+      }
+    }
+    if (!best)
+    {
+      return false;
+    }
+    for (const CellHandle cell : best->cells)
+    {
+      if (!cell->cache.relabelledForTopology)
+      {
+        m_Changes.push_back({ cell, cell->cache.stamp, cell->cache.label });
+        cell->cache.relabelledForTopology = true;
+      }
+      cell->cache.label = best->label;
+      for (int corner = 0; corner < 4; ++corner)
+      {
+        touched.push_back(cell->vertex(corner));
+      }
+    }
+    return true;
+  }
+
+  static constexpr Label UnionKey = BackgroundLabel;
+
+  MeshState &           m_State;
+  const LocalSampling & m_Sizing;
+  std::vector<Change>   m_Changes;
+};
+
+} // namespace detail
+} // namespace delaunay_refinement
+
+#endif
