@@ -155,11 +155,12 @@ private:
   int
   NonManifoldLabelsAt(VertexHandle vertex) const
   {
-    const Triangulation &   triangulation = m_State.GetTriangulation();
-    std::vector<CellHandle> star;
-    triangulation.incident_cells(vertex, std::back_inserter(star));
-    std::map<Label, std::vector<std::pair<VertexHandle, VertexHandle>>> links;
-    for (const CellHandle cell : star)
+    const Triangulation & triangulation = m_State.GetTriangulation();
+    m_Star.clear();
+    triangulation.incident_cells(vertex, std::back_inserter(m_Star));
+    // (label, link edge): a few dozen entries, so flat and sorted rather than a map of vectors.
+    m_Links.clear();
+    for (const CellHandle cell : m_Star)
     {
       const int   own = cell->index(vertex);
       const Label label = LabelOf(cell);
@@ -185,59 +186,77 @@ private:
             edge[count++] = cell->vertex(corner);
           }
         }
-        const auto link = std::make_pair(edge[0], edge[1]);
         if (label != BackgroundLabel)
         {
-          links[label].push_back(link);
+          m_Links.push_back({ label, edge });
         }
         if (other != BackgroundLabel)
         {
-          links[other].push_back(link);
+          m_Links.push_back({ other, edge });
         }
         if ((label == BackgroundLabel) != (other == BackgroundLabel))
         {
-          links[UnionKey].push_back(link);
+          m_Links.push_back({ UnionKey, edge });
         }
       }
     }
+    std::sort(m_Links.begin(), m_Links.end(), [](const LinkEdge & a, const LinkEdge & b) { return a.label < b.label; });
     int nonManifold = 0;
-    for (const auto & labelLink : links)
+    for (auto first = m_Links.begin(); first != m_Links.end();)
     {
-      nonManifold += IsOneCycle(labelLink.second) ? 0 : 1;
+      const auto last =
+        std::find_if(first, m_Links.end(), [first](const LinkEdge & edge) { return edge.label != first->label; });
+      nonManifold += IsOneCycle(first, last) ? 0 : 1;
+      first = last;
     }
     return nonManifold;
   }
 
-  static bool
-  IsOneCycle(const std::vector<std::pair<VertexHandle, VertexHandle>> & edges)
+  /** An edge of a label's link at a vertex. */
+  struct LinkEdge
   {
-    std::map<VertexHandle, std::vector<VertexHandle>> adjacent;
-    for (const auto & edge : edges)
+    Label                       label;
+    std::array<VertexHandle, 2> ends;
+  };
+
+  /** Whether the edges make one cycle: every end in exactly two of them, and a walk from the first edge comes back
+   * after visiting them all. */
+  static bool
+  IsOneCycle(std::vector<LinkEdge>::const_iterator first, std::vector<LinkEdge>::const_iterator last)
+  {
+    const auto                edges = static_cast<std::size_t>(last - first);
+    std::vector<VertexHandle> ends;
+    ends.reserve(2 * edges);
+    for (auto edge = first; edge != last; ++edge)
     {
-      adjacent[edge.first].push_back(edge.second);
-      adjacent[edge.second].push_back(edge.first);
+      ends.push_back(edge->ends[0]);
+      ends.push_back(edge->ends[1]);
     }
-    for (const auto & vertexNeighbors : adjacent)
+    std::sort(ends.begin(), ends.end());
+    for (std::size_t index = 0; index < ends.size(); index += 2)
     {
-      if (vertexNeighbors.second.size() != 2)
+      if (ends[index] != ends[index + 1] || (index + 2 < ends.size() && ends[index + 2] == ends[index]))
       {
         return false;
       }
     }
-    // Walk the cycle from one vertex: it must visit every vertex.
-    const VertexHandle start = adjacent.begin()->first;
-    VertexHandle       previous = start;
-    VertexHandle       current = adjacent[start][0];
-    std::size_t        length = 1;
-    while (current != start && length <= adjacent.size())
+    // Walk: from the first edge's second end, take the other edge at the current end, until back at the start.
+    const VertexHandle start = first->ends[0];
+    VertexHandle       current = first->ends[1];
+    auto               through = first;
+    std::size_t        walked = 1;
+    while (current != start && walked <= edges)
     {
-      const std::vector<VertexHandle> & next = adjacent[current];
-      const VertexHandle                following = next[0] == previous ? next[1] : next[0];
-      previous = current;
-      current = following;
-      ++length;
+      auto next = first;
+      while (next == through || (next->ends[0] != current && next->ends[1] != current))
+      {
+        ++next;
+      }
+      current = next->ends[0] == current ? next->ends[1] : next->ends[0];
+      through = next;
+      ++walked;
     }
-    return current == start && length == adjacent.size();
+    return current == start && walked == edges;
   }
 
   Label
@@ -305,9 +324,10 @@ private:
   }
 
   /** How many non-manifold (vertex, label) pairs the move removes; below 1 when it is not allowed. The move is
-   * undone before returning. */
+   * undone before returning. `countsBefore` keeps the counts of the unchanged mesh between the moves tried at one
+   * vertex. */
   int
-  GainOf(const Move & move) const
+  GainOf(const Move & move, std::map<VertexHandle, int> & countsBefore) const
   {
     std::vector<VertexHandle> corners;
     for (const CellHandle cell : move.cells)
@@ -322,7 +342,8 @@ private:
     int before = 0;
     for (const VertexHandle corner : corners)
     {
-      before += NonManifoldLabelsAt(corner);
+      const auto known = countsBefore.find(corner);
+      before += known != countsBefore.end() ? known->second : (countsBefore[corner] = NonManifoldLabelsAt(corner));
     }
     // The cells whose face neighbours change: the move's and their neighbours.
     std::vector<CellHandle> near = move.cells;
@@ -520,12 +541,13 @@ private:
       }
       return MeshState::SortedVertexIds(a) < MeshState::SortedVertexIds(b);
     });
-    const std::vector<Move> moves = MovesAround(vertex, star);
-    int                     bestGain = 0;
-    const Move *            best = nullptr;
+    const std::vector<Move>     moves = MovesAround(vertex, star);
+    std::map<VertexHandle, int> countsBefore;
+    int                         bestGain = 0;
+    const Move *                best = nullptr;
     for (const Move & move : moves)
     {
-      const int gain = GainOf(move);
+      const int gain = GainOf(move, countsBefore);
       if (gain > bestGain || (gain > 0 && gain == bestGain && move.cells.size() < best->cells.size()))
       {
         bestGain = gain;
@@ -557,6 +579,9 @@ private:
   MeshState &           m_State;
   const LocalSampling & m_Sizing;
   std::vector<Change>   m_Changes;
+  // Scratch space of NonManifoldLabelsAt(), which runs for every corner of every move tried.
+  mutable std::vector<CellHandle> m_Star;
+  mutable std::vector<LinkEdge>   m_Links;
 };
 
 } // namespace detail
