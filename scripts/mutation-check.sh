@@ -24,6 +24,11 @@
 #   skip-interface-r3  14 tests: KmeansTissues.GuaranteesHold and its baseline (counts), HostileShapes
 #                      TwoTissuesAlongAnEdge, seven randomized families (boundary angle <= 30 degrees, circumradius >=
 #                      delta on interfaces), the NumPy check of the CLI meshes (IndependentQuality), the fingerprint
+# Rerun for two mutations after the relabelling at non-manifold places (issue #14, 4fa555f), with
+# DELAUNAY_MUTATION_CTEST_ARGS="-R KmeansTissues|HostileShapes|RandomizedImages|IndependentQuality|Fingerprint|
+# TwoSpheres|CoreFidelity": skip-interface-r3 caught by 13 tests (KmeansTissues.GuaranteesHold and
+# EachTissueBoundaryIsAClosedManifold, the k-means baseline and fingerprint, HostileShapes TwoTissuesAlongAnEdge and
+# Speckle at 1 x spacing, seven randomized families), drop-smallest by 19 (as above).
 set -euo pipefail
 
 repository=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
