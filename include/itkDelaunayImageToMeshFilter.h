@@ -148,9 +148,10 @@ public:
   /** Beyond half of δ the opening would remove parts that hold a ball of diameter δ. */
   static constexpr double LargestRegularizationScale = 0.5;
 
-  /** Where a boundary still comes out non-manifold after the refinement, the labels are regularised in a ball of
-   * radius δ around each such place (the place's label fills the ball or leaves it, whichever changes fewer
-   * voxels) and the refinement resumes there, at most this many rounds. Only with nearest-neighbour labels.
+  /** Where a boundary still comes out non-manifold after the refinement and the relabelling
+   * (RelabelNonManifoldPlaces), the labels are regularised in a ball of radius δ around each such place (the place's
+   * label fills the ball or leaves it, whichever changes fewer voxels) and the refinement resumes there, at most
+   * this many rounds. Only with nearest-neighbour labels.
    * Default delaunay_refinement::RefinementParameters{}.topologyRegularizationRounds; 0 = never; valid: [0, 20]. */
   itkSetMacro(TopologyRegularizationRounds, unsigned int);
   itkGetConstMacro(TopologyRegularizationRounds, unsigned int);
