@@ -183,6 +183,15 @@ PlanarAngles(const Vector3 & a, const Vector3 & b, const Vector3 & c)
   return { angleAt(a, b, c), angleAt(b, c, a), angleAt(c, a, b) };
 }
 
+/** Theorem 2's bound on boundary triangles: every planar angle above 30°. For the steps that put an existing
+ * triangle on a boundary without R3 (flat caps, the relabelling at non-manifold places), which must keep it. */
+inline bool
+HasPlanarAnglesAbove30Degrees(const Vector3 & a, const Vector3 & b, const Vector3 & c)
+{
+  const std::array<double, 3> angles = PlanarAngles(a, b, c);
+  return *std::min_element(angles.begin(), angles.end()) > 30.0;
+}
+
 /** The circumradius of a triangle, |ab| |bc| |ca| / (4 area). Coincident corners give 0 / 0: infinity is returned
  * then, since a NaN would drop out of a maximum and hide the degenerate triangle, which has no more a circumcircle
  * than a collinear one (x / 0 = infinity). */

@@ -124,11 +124,9 @@ private:
   {
     for (const int facet : facets)
     {
-      const std::array<double, 3> angles =
-        PlanarAngles(m_State.PointOf(cell->vertex(Triangulation::vertex_triple_index(facet, 0))),
-                     m_State.PointOf(cell->vertex(Triangulation::vertex_triple_index(facet, 1))),
-                     m_State.PointOf(cell->vertex(Triangulation::vertex_triple_index(facet, 2))));
-      if (*std::min_element(angles.begin(), angles.end()) <= 30.0)
+      if (!HasPlanarAnglesAbove30Degrees(m_State.PointOf(cell->vertex(Triangulation::vertex_triple_index(facet, 0))),
+                                         m_State.PointOf(cell->vertex(Triangulation::vertex_triple_index(facet, 1))),
+                                         m_State.PointOf(cell->vertex(Triangulation::vertex_triple_index(facet, 2)))))
       {
         return false;
       }

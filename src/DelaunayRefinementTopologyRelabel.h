@@ -54,9 +54,9 @@ public:
     , m_Sizing(sizing)
   {}
 
-  /** Relabels at the non-manifold places while a move removes some; returns how many tetrahedra took another
-   * label. */
-  std::size_t
+  /** Relabels at the non-manifold places while a move removes some (the extracted mesh lists the tetrahedra that
+   * took another label). */
+  void
   Relabel()
   {
     std::vector<VertexHandle> candidates = NonManifoldVertices();
@@ -90,7 +90,6 @@ public:
         change.cell->cache.relabelledForTopology = false;
       }
     }
-    return NumberOfRelabelled();
   }
 
   /** Gives every relabelled tetrahedron that still exists its label back (the oracle's at its circumcentre). */
@@ -120,17 +119,6 @@ private:
   ById(VertexHandle a, VertexHandle b)
   {
     return a->info().id < b->info().id;
-  }
-
-  std::size_t
-  NumberOfRelabelled() const
-  {
-    std::size_t count = 0;
-    for (const Change & change : m_Changes)
-    {
-      count += change.cell->cache.stamp == change.stamp && change.cell->cache.relabelledForTopology ? 1 : 0;
-    }
-    return count;
   }
 
   std::vector<VertexHandle>
@@ -303,8 +291,7 @@ private:
           }
           corners[corner] = m_State.PointOf(vertex);
         }
-        const std::array<double, 3> angles = PlanarAngles(corners[0], corners[1], corners[2]);
-        if (*std::min_element(angles.begin(), angles.end()) <= 30.0)
+        if (!HasPlanarAnglesAbove30Degrees(corners[0], corners[1], corners[2]))
         {
           return false;
         }
