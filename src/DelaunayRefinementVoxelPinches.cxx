@@ -273,14 +273,13 @@ private:
         consider({ offset, pinched, FaceNeighboursWith(offset, pinched) }, labels[corner], true, mask | (1u << corner));
         continue;
       }
+      // Each other label of the block once (a label met again would give the same change).
       for (int other = 0; other < 8; ++other)
       {
-        if (labels[other] != pinched)
+        const Label label = labels[other];
+        if (label != pinched && std::find(labels.begin(), labels.begin() + other, label) == labels.begin() + other)
         {
-          consider({ offset, labels[other], FaceNeighboursWith(offset, labels[other]) },
-                   pinched,
-                   false,
-                   mask & ~(1u << corner));
+          consider({ offset, label, FaceNeighboursWith(offset, label) }, pinched, false, mask & ~(1u << corner));
         }
       }
     }
@@ -292,22 +291,8 @@ private:
   int
   PinchesMadeBy(std::size_t offset, Label from, Label to) const
   {
-    const std::array<std::size_t, 3> coordinates = CoordinatesOf(offset);
-    int                              made = 0;
-    for (int corner = 0; corner < 8; ++corner)
-    {
-      std::size_t cube = offset;
-      bool        inside = true;
-      for (int axis = 0; axis < 3; ++axis)
-      {
-        const std::size_t step = (corner >> axis) & 1;
-        inside = inside && step <= coordinates[axis] && coordinates[axis] - step + 1 < m_Size[axis];
-        cube -= step * m_Strides[axis];
-      }
-      if (!inside)
-      {
-        continue;
-      }
+    int made = 0;
+    ForEachCubeHolding(offset, [&](std::size_t cube, int corner) {
       CubeMask fromMask = 0;
       CubeMask toMask = 0;
       for (int other = 0; other < 8; ++other)
@@ -319,8 +304,32 @@ private:
       const CubeMask bit = 1u << corner;
       made +=
         m_IsCritical(fromMask & ~bit) + m_IsCritical(toMask | bit) - m_IsCritical(fromMask) - m_IsCritical(toMask);
-    }
+    });
     return made;
+  }
+
+  /** Calls f(cube, corner) for each block of 2 x 2 x 2 voxels inside the grid that holds the voxel, `corner` being
+   * the voxel's place in it: a change of the voxel can make or unmake a critical configuration in those only. */
+  template <typename TFunction>
+  void
+  ForEachCubeHolding(std::size_t offset, TFunction && f) const
+  {
+    const std::array<std::size_t, 3> coordinates = CoordinatesOf(offset);
+    for (int corner = 0; corner < 8; ++corner)
+    {
+      std::size_t cube = offset;
+      bool        inside = true;
+      for (int axis = 0; axis < 3; ++axis)
+      {
+        const std::size_t step = (corner >> axis) & 1;
+        inside = inside && step <= coordinates[axis] && coordinates[axis] - step + 1 < m_Size[axis];
+        cube -= step * m_Strides[axis];
+      }
+      if (inside)
+      {
+        f(cube, corner);
+      }
+    }
   }
 
   bool
@@ -350,23 +359,7 @@ private:
       m_Originals.emplace_back(change.offset, m_Labels[change.offset]);
     }
     m_Labels[change.offset] = change.label;
-    // The cubes that hold the voxel: a change there can make or unmake a critical configuration in them only.
-    const std::array<std::size_t, 3> coordinates = CoordinatesOf(change.offset);
-    for (int corner = 0; corner < 8; ++corner)
-    {
-      std::size_t cube = change.offset;
-      bool        inside = true;
-      for (int axis = 0; axis < 3; ++axis)
-      {
-        const std::size_t step = (corner >> axis) & 1;
-        inside = inside && step <= coordinates[axis] && coordinates[axis] - step + 1 < m_Size[axis];
-        cube -= step * m_Strides[axis];
-      }
-      if (inside)
-      {
-        m_Pending.push_back(cube);
-      }
-    }
+    ForEachCubeHolding(change.offset, [this](std::size_t cube, int) { m_Pending.push_back(cube); });
   }
 
   int
