@@ -117,6 +117,8 @@ struct QualityReport
   std::size_t nonManifoldVertices{ 0 };
   double      meshVolume{ 0.0 };
   double      segmentedVolume{ 0.0 };
+  /** Whether the distance below was measured (DistanceMeasurement). */
+  bool distanceMeasured{ false };
   /** Two-sided distance between the mesh's boundary triangles and the marching-cubes surface of the
    * segmentation (ExtractLabelSurfaces()), both sampled every `distanceSampleSpacing` mm. */
   DistanceStatistics distanceToMarchingCubes;
@@ -134,6 +136,16 @@ struct QualityReport
   }
 };
 
+/** Whether ComputeQualityReport() measures the two-sided distance to the segmentation's marching-cubes surface.
+ * Everything else in the report costs a few percent of the meshing; the distance costs several times the meshing
+ * on a speckled segmentation, whose marching-cubes surface has millions of triangles (the k-means tissues at δ =
+ * 3 mm: 7 s meshing, 31 s distance on one core), so the command line measures it only when asked (--distance). */
+enum class DistanceMeasurement
+{
+  Measure,
+  Skip
+};
+
 /** Measures `mesh` and compares it with `segmentation`, the voxels of the labels that were meshed (every
  * other voxel 0). The distance samples are every vertex of both surfaces and points about the smallest voxel
  * spacing apart on their triangles: the marching-cubes surface has no feature smaller than a voxel, and finer
@@ -141,7 +153,8 @@ struct QualityReport
  * \throws std::invalid_argument if the mesh arrays are inconsistent (a label missing, a point index out of
  * range) or the segmentation's labels do not match its size. */
 QualityReport
-ComputeQualityReport(const TetrahedralMesh & mesh, const LabelVolume & segmentation);
+ComputeQualityReport(const TetrahedralMesh & mesh, const LabelVolume & segmentation,
+                     DistanceMeasurement distance = DistanceMeasurement::Measure);
 
 /** Prints the report as a short table of aligned columns, for people. A lost label's row ends with "lost: N
  * component(s), V mm^3" instead of angles and genus, and the summary lists the lost labels. */
@@ -154,10 +167,10 @@ PrintQualityReport(const QualityReport & report, std::ostream & out);
  * boundary_triangles, quality {min_dihedral_angle_deg, max_dihedral_angle_deg, max_radius_edge_ratio,
  * min_boundary_planar_angle_deg, inverted_tetrahedra, manifold, non_manifold_edges, non_manifold_vertices},
  * mesh_volume_mm3, segmented_volume_mm3, distance_to_marching_cubes {sample_spacing_mm, samples, mean_mm,
- * percentile95_mm, max_mm}, labels [{label, vertices, tetrahedra, boundary_triangles, mesh_volume_mm3,
- * segmented_volume_mm3, boundary_components, boundary_genus, boundary_component_genera, non_manifold_edges,
- * non_manifold_vertices, min_planar_angle_deg, lost, and for a lost label lost_components and lost_volume_mm3,
- * its genus, genera and angle null}], min_dihedral_angle_histogram {bin_width_deg, counts},
+ * percentile95_mm, max_mm} (null when not measured), labels [{label, vertices, tetrahedra, boundary_triangles,
+ * mesh_volume_mm3, segmented_volume_mm3, boundary_components, boundary_genus, boundary_component_genera,
+ * non_manifold_edges, non_manifold_vertices, min_planar_angle_deg, lost, and for a lost label lost_components and
+ * lost_volume_mm3, its genus, genera and angle null}], min_dihedral_angle_histogram {bin_width_deg, counts},
  * time_seconds {phase: seconds}, peak_memory_bytes. */
 void
 WriteQualityReportJson(const QualityReport & report, std::ostream & out);

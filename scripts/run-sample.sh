@@ -19,7 +19,7 @@ report="$output_directory/brain-report.json"
 
 echo "== Meshing $brain_mask"
 echo "   (128 x 128 x 62 voxels of 2 x 2 x 3 mm; labels 4, 5 and 6 are brain, meshed as one object; delta = 4 mm)"
-"$build_directory/bin/delaunay-image-to-mesh" "$brain_mask" "$mesh" --delta 4 --merge-labels --report "$report"
+"$build_directory/bin/delaunay-image-to-mesh" "$brain_mask" "$mesh" --delta 4 --merge-labels --distance --report "$report"
 
 echo
 echo "== Done"

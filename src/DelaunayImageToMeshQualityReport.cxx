@@ -207,6 +207,7 @@ AddDistanceToMarchingCubes(const TetrahedralMesh & mesh, const LabelVolume & seg
 {
   const TriangleSurface reference = ExtractLabelSurfaces(segmentation);
   report.distanceSampleSpacing = *std::min_element(segmentation.spacing.begin(), segmentation.spacing.end());
+  report.distanceMeasured = true;
   report.distanceToMarchingCubes =
     ComputeTwoSidedDistance(
       mesh.points, mesh.boundaryTriangles, reference.points, reference.triangles, report.distanceSampleSpacing)
@@ -256,9 +257,14 @@ QualityJson(const QualityReport & report)
            { "non_manifold_vertices", report.nonManifoldVertices } };
 }
 
+/** null when the distance was not measured (DistanceMeasurement::Skip). */
 Json
 DistanceJson(const QualityReport & report)
 {
+  if (!report.distanceMeasured)
+  {
+    return nullptr;
+  }
   const DistanceStatistics & distance = report.distanceToMarchingCubes;
   return { { "sample_spacing_mm", report.distanceSampleSpacing },
            { "samples", distance.count },
@@ -428,8 +434,9 @@ PrintSummary(const QualityReport & report, std::ostream & out)
   const DistanceStatistics & distance = report.distanceToMarchingCubes;
   PrintRow(out,
            "distance to marching cubes",
-           "mean " + Fixed(distance.mean, 3) + ", p95 " + Fixed(distance.percentile95, 3) + ", max " +
-             Fixed(distance.maximum, 3) + " mm");
+           report.distanceMeasured ? "mean " + Fixed(distance.mean, 3) + ", p95 " + Fixed(distance.percentile95, 3) +
+                                       ", max " + Fixed(distance.maximum, 3) + " mm"
+                                   : std::string("not measured (--distance)"));
   PrintRow(out, "time", PhasesText(run));
   PrintRow(out, "peak memory", Fixed(static_cast<double>(run.peakResidentMemoryBytes) / (1024.0 * 1024.0), 1) + " MiB");
 }
@@ -477,7 +484,7 @@ PrintLabelTable(const std::vector<LabelQuality> & labels, std::ostream & out)
 } // namespace
 
 QualityReport
-ComputeQualityReport(const TetrahedralMesh & mesh, const LabelVolume & segmentation)
+ComputeQualityReport(const TetrahedralMesh & mesh, const LabelVolume & segmentation, DistanceMeasurement distance)
 {
   CheckInputs(mesh, segmentation);
   QualityReport report;
@@ -486,7 +493,10 @@ ComputeQualityReport(const TetrahedralMesh & mesh, const LabelVolume & segmentat
   report.boundaryTriangles = mesh.boundaryTriangles.size();
   AddTetrahedronQuality(mesh, report);
   AddLabelQualities(mesh, segmentation, report);
-  AddDistanceToMarchingCubes(mesh, segmentation, report);
+  if (distance == DistanceMeasurement::Measure)
+  {
+    AddDistanceToMarchingCubes(mesh, segmentation, report);
+  }
   return report;
 }
 

@@ -99,6 +99,23 @@ def check_progress_and_table(program, image, output):
     check(lines[-1] == "progress: 100%", f"the last progress line should be 100%: {describe(result)}")
     for row in ("Mesh quality report", "tetrahedra", "max radius-edge ratio", "distance to marching cubes", "time"):
         check(row in result.stdout, f"the report table lacks '{row}': {describe(result)}")
+    check("not measured (--distance)" in result.stdout,
+          f"without --distance the table should say the distance was not measured: {describe(result)}")
+
+
+def check_distance_on_request(program, image, output, default_report):
+    """The distance costs several times the meshing on speckled images: measured with --distance only, and then
+    on the same mesh (the option changes the report, never the mesh)."""
+    check(default_report["distance_to_marching_cubes"] is None,
+          f"without --distance the JSON distance should be null: {default_report['distance_to_marching_cubes']}")
+    _, measured = mesh_and_report(program, image, output, "distance", options=["--delta", "2", "--distance"])
+    distance = measured["distance_to_marching_cubes"]
+    check(distance is not None and distance["samples"] > 0, f"--distance: no distance in the report: {distance}")
+    # A mesh at delta = 2 mm of balls several mm across follows their voxels to within a fraction of delta.
+    check(0 < distance["mean_mm"] <= distance["percentile95_mm"] <= distance["max_mm"] < 2,
+          f"--distance: implausible distances {distance}")
+    check((measured["vertices"], measured["tetrahedra"]) == (default_report["vertices"], default_report["tetrahedra"]),
+          "--distance changed the mesh")
 
 
 def main(program, images, output):
@@ -107,8 +124,9 @@ def main(program, images, output):
     check_iso_value(program, images, output)
     check_options(program, os.path.join(images, "labels.nii.gz"), output, default_report)
     check_progress_and_table(program, os.path.join(images, "labels.nii.gz"), output)
-    print("NIfTI, NRRD, MetaImage and DICOM inputs, --iso, --labels, --delta, --radius-edge, --min-dihedral and "
-          "progress: all as expected")
+    check_distance_on_request(program, os.path.join(images, "labels.nii.gz"), output, default_report)
+    print("NIfTI, NRRD, MetaImage and DICOM inputs, --iso, --labels, --delta, --radius-edge, --min-dihedral, "
+          "--distance and progress: all as expected")
 
 
 if __name__ == "__main__":

@@ -242,6 +242,28 @@ TEST(QualityReport, DistanceToMarchingCubes)
   EXPECT_GT(distance.mean, 0.0);
 }
 
+TEST(QualityReport, DistanceSkippedOnRequestAndNothingElse)
+{
+  TetrahedralMesh mesh = KuhnCube(1);
+  AddBoundaryTriangles(mesh);
+  const QualityReport measured = ComputeQualityReport(mesh, CubeSegmentation(1), DistanceMeasurement::Measure);
+  const QualityReport skipped = ComputeQualityReport(mesh, CubeSegmentation(1), DistanceMeasurement::Skip);
+  EXPECT_TRUE(measured.distanceMeasured);
+  EXPECT_GT(measured.distanceToMarchingCubes.count, 0u);
+  EXPECT_FALSE(skipped.distanceMeasured);
+  EXPECT_EQ(skipped.distanceToMarchingCubes.count, 0u);
+  const nlohmann::ordered_json measuredJson = JsonOf(measured);
+  nlohmann::ordered_json       skippedJson = JsonOf(skipped);
+  EXPECT_TRUE(skippedJson["distance_to_marching_cubes"].is_null()) << skippedJson;
+  EXPECT_FALSE(measuredJson["distance_to_marching_cubes"].is_null()) << measuredJson;
+  // Everything but the distance is the same report.
+  skippedJson["distance_to_marching_cubes"] = measuredJson["distance_to_marching_cubes"];
+  EXPECT_EQ(skippedJson.dump(), measuredJson.dump());
+  std::ostringstream table;
+  PrintQualityReport(skipped, table);
+  EXPECT_NE(table.str().find("distance to marching cubes  not measured"), std::string::npos) << table.str();
+}
+
 TEST(QualityReport, MinimumDihedralAngleHistogram)
 {
   const QualityReport    report = CubeReport(1);

@@ -174,7 +174,8 @@ def size_normalised(row):
 def mesh_ours(program, image, delta, directory, name, options=()):
     path = os.path.join(directory, f"{name}-{delta}.vtu")
     report_path = os.path.join(directory, f"{name}-{delta}.json")
-    run([program, image, path, "--delta", str(delta), "--quiet", "--report", report_path, *options])
+    run([program, image, path, "--delta", str(delta), "--quiet", "--distance", "--report", report_path,
+         *options])
     with open(report_path) as stream:
         return path, {"mean_distance_mm": json.load(stream)["distance_to_marching_cubes"]["mean_mm"]}
 
