@@ -28,6 +28,7 @@
 #include "DelaunayRefinementMeshQuality.h"
 #include "DelaunayRefinementMesher.h"
 
+#include "itkImageFileWriter.h"
 #include "itkMultiThreaderBase.h"
 
 #include <CLI/CLI.hpp>
@@ -64,6 +65,8 @@ struct Options
   std::string         dataDirectory{ DefaultDataDirectory };
   /** Empty = the meshes are not written. */
   std::string meshDirectory;
+  /** Empty = the images are not written. */
+  std::string imageDirectory;
 };
 
 /** Parses the command line into `options` (CLI11); nullopt when it was parsed, else the exit code after --help or
@@ -79,7 +82,7 @@ ParseOptions(int argc, char * argv[], Options & options)
     .add_option("--images",
                 options.imageNames,
                 "only these images (sphere-64, torus-64, sphere-128, torus-128, brain-mask,\nkmeans-tissues, "
-                "brain-mask-1mm, kmeans-tissues-1mm)")
+                "atlas-phantom, brain-mask-1mm, kmeans-tissues-1mm)")
     ->delimiter(',');
   app
     .add_option("--deltas",
@@ -94,6 +97,12 @@ ParseOptions(int argc, char * argv[], Options & options)
                 options.meshDirectory,
                 "write every mesh to this existing directory as IMAGE_DELTA_MESHER.vtu\n(for "
                 "bench/downstream.py)")
+    ->check(CLI::ExistingDirectory);
+  app
+    .add_option("--write-images",
+                options.imageDirectory,
+                "write every selected image to this existing directory as IMAGE.nrrd (to mesh\nit with "
+                "delaunay-image-to-mesh, e.g. the generated atlas phantom)")
     ->check(CLI::ExistingDirectory);
   try
   {
@@ -484,6 +493,10 @@ RunBenchmark(const Options & options)
     std::cerr << benchImage.name << ": " << benchImage.description << ", "
               << benchImage.image->GetBufferedRegion().GetSize() << " voxels of " << benchImage.image->GetSpacing()
               << " mm\n";
+    if (!options.imageDirectory.empty())
+    {
+      itk::WriteImage(benchImage.image, options.imageDirectory + "/" + benchImage.name + ".nrrd", true);
+    }
     const dr::LabelVolume     volume = ToLabelVolume(*benchImage.image);
     const dr::TriangleSurface marchingCubes = dr::ExtractLabelSurfaces(volume);
     for (const double delta : options.deltas.empty() ? benchImage.deltas : options.deltas)

@@ -25,11 +25,15 @@
 #include "itkOrientImageFilter.h"
 #include "itkResampleImageFilter.h"
 
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <stdexcept>
+#include <vector>
 
 namespace delaunay_bench
 {
@@ -84,6 +88,104 @@ GenerateTorus(unsigned int size)
     const double fromRing = std::sqrt(x * x + y * y) - ringRadius;
     return fromRing * fromRing + z * z <= tubeRadius * tubeRadius;
   });
+}
+
+/** splitmix64: a fixed, portable stream of pseudo-random numbers (std::uniform_real_distribution differs between
+ * standard libraries, and the phantom must be the same everywhere). */
+class PortableRandom
+{
+public:
+  explicit PortableRandom(uint64_t seed)
+    : m_State(seed)
+  {}
+
+  /** Uniform in [0, 1). */
+  double
+  Next()
+  {
+    return static_cast<double>(Hash(m_State += 0x9E3779B97F4A7C15ull) >> 11) * 0x1.0p-53;
+  }
+
+  static uint64_t
+  Hash(uint64_t z)
+  {
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
+
+private:
+  uint64_t m_State;
+};
+
+/** An atlas-like phantom (issues #14 and #18): `labels` regions filling an ellipsoidal "brain" of 80 × 96 × 80 mm
+ * in 96 × 112 × 96 voxels of 1 mm, each the Voronoi cell of a random seed, every region touching several others
+ * along interfaces, triple curves and quadruple points, as an atlas's do. The distances to the seeds get a
+ * per-voxel jitter of up to ±0.5 mm, so the interfaces are jagged at the voxel scale, with the odd voxel of one
+ * label inside another, as a registered atlas's are. Background (0) outside the ellipsoid. */
+LabelImage::Pointer
+GenerateAtlasPhantom(unsigned int labels)
+{
+  const LabelImage::SizeType  extent{ { 96, 112, 96 } };
+  const std::array<double, 3> middle{ { 47.5, 55.5, 47.5 } };
+  const std::array<double, 3> semiAxes{ { 40.0, 48.0, 40.0 } };
+  const auto                  insideEllipsoid = [&](const std::array<double, 3> & p) {
+    double sum = 0.0;
+    for (unsigned int axis = 0; axis < 3; ++axis)
+    {
+      const double t = (p[axis] - middle[axis]) / semiAxes[axis];
+      sum += t * t;
+    }
+    return sum <= 1.0;
+  };
+  PortableRandom                     random(20261124);
+  std::vector<std::array<double, 3>> seeds;
+  while (seeds.size() < labels)
+  {
+    std::array<double, 3> seed{};
+    for (unsigned int axis = 0; axis < 3; ++axis)
+    {
+      seed[axis] = middle[axis] + semiAxes[axis] * (2.0 * random.Next() - 1.0);
+    }
+    if (insideEllipsoid(seed))
+    {
+      seeds.push_back(seed);
+    }
+  }
+  auto image = LabelImage::New();
+  image->SetRegions(LabelImage::RegionType(extent));
+  image->Allocate();
+  uint64_t voxel = 0;
+  for (itk::ImageRegionIteratorWithIndex<LabelImage> it(image, image->GetBufferedRegion()); !it.IsAtEnd(); ++it)
+  {
+    const std::array<double, 3> p{ { static_cast<double>(it.GetIndex()[0]),
+                                     static_cast<double>(it.GetIndex()[1]),
+                                     static_cast<double>(it.GetIndex()[2]) } };
+    ++voxel;
+    if (!insideEllipsoid(p))
+    {
+      it.Set(0);
+      continue;
+    }
+    std::size_t nearest = 0;
+    double      nearestDistance = std::numeric_limits<double>::infinity();
+    for (std::size_t seed = 0; seed < seeds.size(); ++seed)
+    {
+      const double jitter =
+        1.0 * (static_cast<double>(PortableRandom::Hash(voxel * 1024 + seed) >> 11) * 0x1.0p-53 - 0.5);
+      const double distance = std::sqrt((p[0] - seeds[seed][0]) * (p[0] - seeds[seed][0]) +
+                                        (p[1] - seeds[seed][1]) * (p[1] - seeds[seed][1]) +
+                                        (p[2] - seeds[seed][2]) * (p[2] - seeds[seed][2])) +
+                              jitter;
+      if (distance < nearestDistance)
+      {
+        nearestDistance = distance;
+        nearest = seed;
+      }
+    }
+    it.Set(static_cast<uint8_t>(1 + nearest));
+  }
+  return image;
 }
 
 /** The same voxels in the same physical places, with the axes permuted and flipped so that the direction is
@@ -210,6 +312,10 @@ MakeBenchImages(bool quick, const std::string & dataDirectory)
     { "kmeans-tissues", "KmeansTest_T1KmeansPrelimSegmentation, the 5 tissue classes", kmeansTissues, { 4 } });
   if (!quick)
   {
+    images.push_back({ "atlas-phantom",
+                       "generated atlas-like phantom: 120 touching labels, 96 x 112 x 96 voxels of 1 mm",
+                       GenerateAtlasPhantom(120),
+                       { 2, 4 } });
     images.push_back({ "brain-mask-1mm",
                        "the brain mask resampled (nearest neighbour) to 1 mm isotropic",
                        ResampleIsotropic(*brainMask, 1.0),
