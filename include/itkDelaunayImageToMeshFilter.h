@@ -167,11 +167,12 @@ public:
   itkSetMacro(RelabelNonManifoldPlaces, bool);
   itkGetConstMacro(RelabelNonManifoldPlaces, bool);
   itkBooleanMacro(RelabelNonManifoldPlaces);
-  /** How many output tetrahedra the last update relabelled at non-manifold places (RelabelNonManifoldPlaces). */
+  /** How many output tetrahedra the last update relabelled at non-manifold places (RelabelNonManifoldPlaces).
+   * Reads the member, not GetRefinementStatistics(), which the wrapping parser does not see. */
   SizeValueType
   GetNumberOfTopologyRelabelledTetrahedra() const
   {
-    return static_cast<SizeValueType>(GetRefinementStatistics().topologyRelabelledTetrahedra);
+    return static_cast<SizeValueType>(m_RefinementStatistics.topologyRelabelledTetrahedra);
   }
 
   /** A cap on the vertices of the triangulation; reaching it raises an exception. Default 10,000,000. */

@@ -58,6 +58,7 @@ configure_and_build() {
     -DModule_ITKMesh=ON -DModule_ITKImageFunction=ON \
     -DModule_ITKIONIFTI=ON -DModule_ITKBridgeNumPy=ON \
     -DModule_DelaunayImageToMesh=ON \
+    -DModule_ITKFEMRegistration=ON -DModule_ITKImageGrid=ON \
     -DITK_WRAP_PYTHON=ON -DITK_WRAP_IMAGE_DIMS=3 \
     -DITK_WRAP_unsigned_char=ON -DITK_WRAP_signed_short=ON -DITK_WRAP_float=ON \
     -DITK_WRAP_unsigned_short=OFF -DITK_WRAP_double=OFF \

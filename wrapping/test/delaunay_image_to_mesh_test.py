@@ -70,6 +70,22 @@ def check_diagonal_voxels():
     print("diagonal voxels: 5 joined by default, none when off")
 
 
+def check_topology_options():
+    """Issue #14's options reach Python with the C++ defaults, and the relabelling count is there to read: none
+    relabelled when the relabelling is off."""
+    image, _ = make_sphere_image(np.uint8)
+    filter_ = itk.DelaunayImageToMeshFilter.New(image, SurfaceSamplingDistance=2.0)
+    assert filter_.GetRegularizationScale() == 0.4, f"RegularizationScale {filter_.GetRegularizationScale()}"
+    assert filter_.GetTopologyRegularizationRounds() == 6, f"rounds {filter_.GetTopologyRegularizationRounds()}"
+    assert filter_.GetRelabelNonManifoldPlaces(), "relabelling non-manifold places is the default"
+    assert filter_.GetManifoldRefinementLevels() == 0, "the old delta halving is opt-in"
+    filter_.SetRelabelNonManifoldPlaces(False)
+    filter_.Update()
+    assert not filter_.GetRelabelNonManifoldPlaces()
+    assert filter_.GetNumberOfTopologyRelabelledTetrahedra() == 0, "tetrahedra relabelled with the relabelling off"
+    print("topology options: defaults 0.4 / 6 rounds / relabelling on / no delta halving; off relabels nothing")
+
+
 def main():
     delta = 2.0
     for pixel_type in (np.uint8, np.float32):
@@ -91,6 +107,7 @@ def main():
         assert by_long_name.GetNumberOfCells() == cells_from_object, "delta= and surface_sampling_distance= differ"
         print(f"{pixel_type.__name__}: {cells_from_object} tetrahedra, labels and bounds checked")
     check_diagonal_voxels()
+    check_topology_options()
     return 0
 
 
