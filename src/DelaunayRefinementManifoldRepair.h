@@ -45,8 +45,9 @@ struct NonManifoldPlaces
   /** Each offending boundary vertex with each label whose boundary it offends, in insertion order of the
    * vertices, then by label. */
   std::vector<NonManifoldPlace> places;
-  /** The offending vertices, each once, in insertion order. */
-  std::vector<Vector3> points;
+  /** The offending vertices, each once, in insertion order, and where they are. */
+  std::vector<VertexHandle> vertices;
+  std::vector<Vector3>      points;
   /** All boundary vertices. */
   std::size_t numberOfBoundaryVertices{ 0 };
 };
@@ -114,6 +115,7 @@ public:
       places.places.push_back({ point, offending[i].second });
       if (i == 0 || offending[i].first != offending[i - 1].first)
       {
+        places.vertices.push_back(offending[i].first);
         places.points.push_back(point);
       }
     }

@@ -249,14 +249,16 @@ private:
     m_Statistics.remainingNonManifoldVertices = places.places.size();
   }
 
+  /** The places found, relabelled where that mends them, and found again when a move was made. */
   NonManifoldPlaces
   RelabelAndFindNonManifoldPlaces()
   {
-    if (m_Parameters.relabelNonManifoldPlaces)
+    NonManifoldPlaces places = m_Repair.FindNonManifoldPlaces();
+    if (m_Parameters.relabelNonManifoldPlaces && !places.vertices.empty() && m_Relabelling.Relabel(places.vertices) > 0)
     {
-      m_Relabelling.Relabel();
+      places = m_Repair.FindNonManifoldPlaces();
     }
-    return m_Repair.FindNonManifoldPlaces();
+    return places;
   }
 
   /** The oracle's labels change in a ball of radius δ around each place; the surface samples inside go (they are

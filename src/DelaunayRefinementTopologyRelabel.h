@@ -36,6 +36,7 @@
 
 #include <algorithm>
 #include <array>
+#include <iterator>
 #include <map>
 #include <set>
 #include <utility>
@@ -55,11 +56,18 @@ public:
   {}
 
   /** Relabels at the non-manifold places while a move removes some (the extracted mesh lists the tetrahedra that
-   * took another label). */
-  void
-  Relabel()
+   * took another label), starting from `nonManifoldVertices` (ManifoldRepair::FindNonManifoldPlaces(), in
+   * insertion order: the same link test on the extracted triangles, so the whole mesh is not walked twice); only
+   * feature vertices are worked on. Returns how many moves were made. */
+  std::size_t
+  Relabel(const std::vector<VertexHandle> & nonManifoldVertices)
   {
-    std::vector<VertexHandle> candidates = NonManifoldVertices();
+    const std::size_t         changesBefore = m_Changes.size();
+    std::vector<VertexHandle> candidates;
+    std::copy_if(nonManifoldVertices.begin(),
+                 nonManifoldVertices.end(),
+                 std::back_inserter(candidates),
+                 [](VertexHandle vertex) { return vertex->info().kind == VertexKind::Feature; });
     while (!candidates.empty())
     {
       std::vector<VertexHandle> touched;
@@ -90,6 +98,7 @@ public:
         change.cell->cache.relabelledForTopology = false;
       }
     }
+    return m_Changes.size() - changesBefore;
   }
 
   /** Gives every relabelled tetrahedron that still exists its label back (the oracle's at its circumcentre). */
@@ -119,22 +128,6 @@ private:
   ById(VertexHandle a, VertexHandle b)
   {
     return a->info().id < b->info().id;
-  }
-
-  std::vector<VertexHandle>
-  NonManifoldVertices() const
-  {
-    std::vector<VertexHandle> vertices;
-    const Triangulation &     triangulation = m_State.GetTriangulation();
-    for (auto vertex = triangulation.finite_vertices_begin(); vertex != triangulation.finite_vertices_end(); ++vertex)
-    {
-      if (vertex->info().kind == VertexKind::Feature && NonManifoldLabelsAt(vertex) > 0)
-      {
-        vertices.push_back(vertex);
-      }
-    }
-    std::sort(vertices.begin(), vertices.end(), ById);
-    return vertices;
   }
 
   /** How many labels' boundaries (the union's, keyed by the background, included) are not a manifold at the
