@@ -213,6 +213,36 @@ private:
   bool                          m_QualityComputed{ false };
 };
 
+/** One run of CGAL with manifold(): what it gave, or the cap it reached. */
+struct CappedCgalRun
+{
+  std::string overCap;
+  double      totalSeconds{ 0.0 };
+  std::size_t tetrahedra{ 0 };
+  std::size_t nonManifoldEdges{ 0 };
+  std::size_t unionNonManifoldEdges{ 0 };
+};
+
+/** CGAL Mesh_3 with manifold() and the case's criteria, once, within ResourceCap's defaults (5 minutes, 8 GB): on
+ * the 1 mm brain mask it ran out of 24 GB after 13 minutes (issue #14). */
+CappedCgalRun
+RunCgalManifold(const LabelImage & image, CgalCriteria criteria, const dr::LabelVolume & volume)
+{
+  criteria.manifold = true;
+  CappedCgalRun                    result;
+  const std::optional<MeasuredRun> run =
+    RunInChildProcessWithin([&] { return RunCgalMesh3(image, criteria); }, ResourceCap{}, result.overCap);
+  if (run)
+  {
+    const dr::TetrahedralMesh & mesh = run->output.mesh;
+    result.totalSeconds = run->output.totalSeconds;
+    result.tetrahedra = mesh.tetrahedra.size();
+    result.nonManifoldEdges = dr::ComputeQualityReport(mesh, volume, dr::DistanceMeasurement::Skip).nonManifoldEdges;
+    result.unionNonManifoldEdges = dr::ComputeLabelBoundaryTopology(mesh, dr::BackgroundLabel).nonManifoldEdges;
+  }
+  return result;
+}
+
 /** Everything measured for one image and δ. */
 struct BenchCase
 {
@@ -223,6 +253,8 @@ struct BenchCase
   MesherRow          cgalOptimized;
   FacetDistanceMatch match;
   double             floorSeconds{ 0.0 };
+  /** CGAL with manifold(), one capped run (ResourceCap); its non-manifold edges, or why it has none. */
+  std::optional<CappedCgalRun> cgalManifold;
 };
 
 double
@@ -280,6 +312,8 @@ RunCase(const BenchImage & benchImage, double delta, const Options & options, co
   result.cgal = cgal.Finish(volume);
   result.cgalOptimized = cgalOptimized.Finish(volume);
   result.floorSeconds = MedianBulkDelaunaySeconds(result.ours.mesh.points, options.runs);
+  std::cerr << "  CGAL with manifold(), capped\n";
+  result.cgalManifold = RunCgalManifold(image, criteria, volume);
   return result;
 }
 
@@ -400,15 +434,31 @@ PrintPairedRatios(const std::vector<BenchCase> & cases, int runs)
 void
 PrintNonManifoldEdges(const std::vector<BenchCase> & cases)
 {
+  const ResourceCap cap;
   std::cout << "\nnon-manifold edges, ours / CGAL: summed over the label boundaries (the main table's column) and of "
-               "the union of the labels against the background:\n\n"
-            << "| image | δ mm | label boundaries | union of the labels |\n"
-            << "|---|---|---|---|\n";
+               "the union of the labels against the background; CGAL with manifold() (same criteria, one run capped at "
+            << cap.cpuSeconds << " s and " << (cap.addressSpaceBytes >> 30) << " GB):\n\n"
+            << "| image | δ mm | label boundaries | union of the labels | CGAL manifold(): label boundaries / union | "
+               "CGAL manifold(): tets | CGAL manifold(): wall s |\n"
+            << "|---|---|---|---|---|---|---|\n";
   for (const BenchCase & c : cases)
   {
     std::cout << "| " << c.image << " | " << Format(c.delta, 1) << " | " << c.ours.quality.nonManifoldEdges << " / "
               << c.cgal.quality.nonManifoldEdges << " | " << c.ours.unionNonManifoldEdges << " / "
-              << c.cgal.unionNonManifoldEdges << " |\n";
+              << c.cgal.unionNonManifoldEdges << " | ";
+    if (!c.cgalManifold)
+    {
+      std::cout << "not run | | |\n";
+    }
+    else if (!c.cgalManifold->overCap.empty())
+    {
+      std::cout << c.cgalManifold->overCap << " | | |\n";
+    }
+    else
+    {
+      std::cout << c.cgalManifold->nonManifoldEdges << " / " << c.cgalManifold->unionNonManifoldEdges << " | "
+                << c.cgalManifold->tetrahedra << " | " << Format(c.cgalManifold->totalSeconds, 3) << " |\n";
+    }
   }
 }
 

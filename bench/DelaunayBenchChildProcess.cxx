@@ -18,15 +18,19 @@
 #include "DelaunayBenchChildProcess.h"
 
 #include <malloc.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace delaunay_bench
 {
@@ -208,12 +212,32 @@ ReadRun(const std::string & bytes)
 
 // ---- The two sides of the fork ------------------------------------------------------------------------------
 
+/** What a child that ran out of memory under RLIMIT_AS reports (std::bad_alloc's what()). */
+constexpr const char * OutOfMemoryMessage = "std::bad_alloc";
+
+void
+SetLimit(int resource, rlim_t soft, rlim_t hard)
+{
+  const rlimit limit{ soft, hard };
+  if (::setrlimit(resource, &limit) != 0)
+  {
+    throw std::runtime_error(std::string("setrlimit() failed: ") + std::strerror(errno));
+  }
+}
+
 [[noreturn]] void
-RunChild(const std::function<MesherOutput()> & mesher, int descriptor)
+RunChild(const std::function<MesherOutput()> & mesher, int descriptor, const std::optional<ResourceCap> & cap)
 {
   PipeWriter pipe(descriptor);
   try
   {
+    if (cap)
+    {
+      // The soft CPU limit sends SIGXCPU, which ends the child; the hard one a second later is SIGKILL.
+      const auto seconds = static_cast<rlim_t>(std::ceil(cap->cpuSeconds));
+      SetLimit(RLIMIT_CPU, seconds, seconds + 1);
+      SetLimit(RLIMIT_AS, cap->addressSpaceBytes, cap->addressSpaceBytes);
+    }
     // Free heap pages inherited from the parent would otherwise be reused without counting.
     ::malloc_trim(0);
     ResetPeakResidentBytes();
@@ -261,8 +285,12 @@ PeakResidentBytes()
   return StatusBytes("VmHWM:");
 }
 
-MeasuredRun
-RunInChildProcess(const std::function<MesherOutput()> & mesher)
+namespace
+{
+
+/** The child's result bytes and wait status. */
+std::pair<std::string, int>
+ForkAndRun(const std::function<MesherOutput()> & mesher, const std::optional<ResourceCap> & cap)
 {
   int descriptors[2];
   if (::pipe(descriptors) != 0)
@@ -278,17 +306,51 @@ RunInChildProcess(const std::function<MesherOutput()> & mesher)
   if (child == 0)
   {
     ::close(descriptors[0]);
-    RunChild(mesher, descriptors[1]);
+    RunChild(mesher, descriptors[1], cap);
   }
   ::close(descriptors[1]);
-  const std::string bytes = ReadAll(descriptors[0]);
+  std::string bytes = ReadAll(descriptors[0]);
   ::close(descriptors[0]);
   int status = 0;
   while (::waitpid(child, &status, 0) < 0 && errno == EINTR)
   {}
+  return { std::move(bytes), status };
+}
+
+void
+RequireNormalExit(int status)
+{
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
   {
     throw std::runtime_error("the mesher's child process died (wait status " + std::to_string(status) + ")");
+  }
+}
+
+} // namespace
+
+MeasuredRun
+RunInChildProcess(const std::function<MesherOutput()> & mesher)
+{
+  const auto [bytes, status] = ForkAndRun(mesher, std::nullopt);
+  RequireNormalExit(status);
+  return ReadRun(bytes);
+}
+
+std::optional<MeasuredRun>
+RunInChildProcessWithin(const std::function<MesherOutput()> & mesher, const ResourceCap & cap, std::string & overCap)
+{
+  const auto [bytes, status] = ForkAndRun(mesher, cap);
+  if (WIFSIGNALED(status) && (WTERMSIG(status) == SIGXCPU || WTERMSIG(status) == SIGKILL))
+  {
+    overCap = "over the " + std::to_string(static_cast<long>(cap.cpuSeconds)) + " s cap";
+    return std::nullopt;
+  }
+  RequireNormalExit(status);
+  if (!bytes.empty() && static_cast<ChildStatus>(bytes[0]) == ChildStatus::Failed &&
+      bytes.find(OutOfMemoryMessage) != std::string::npos)
+  {
+    overCap = "over the " + std::to_string(cap.addressSpaceBytes >> 30) + " GB cap";
+    return std::nullopt;
   }
   return ReadRun(bytes);
 }

@@ -22,6 +22,8 @@
 
 #include <cstddef>
 #include <functional>
+#include <optional>
+#include <string>
 
 namespace delaunay_bench
 {
@@ -45,6 +47,19 @@ struct MeasuredRun
  * \throws std::runtime_error with the child's message when the mesher throws or the child dies. */
 MeasuredRun
 RunInChildProcess(const std::function<MesherOutput()> & mesher);
+
+/** Limits on one run: CPU seconds (the meshers are sequential, so about the wall time) and address space. */
+struct ResourceCap
+{
+  double      cpuSeconds{ 300.0 };
+  std::size_t addressSpaceBytes{ std::size_t{ 8 } << 30 };
+};
+
+/** A run within `cap`, or nullopt with `overCap` saying which limit it reached: the child gets the limits as
+ * setrlimit(RLIMIT_CPU) and setrlimit(RLIMIT_AS), so a run over the time cap is killed by SIGXCPU and one over the
+ * memory cap fails to allocate. Any other failure throws, as RunInChildProcess() does. */
+std::optional<MeasuredRun>
+RunInChildProcessWithin(const std::function<MesherOutput()> & mesher, const ResourceCap & cap, std::string & overCap);
 
 } // namespace delaunay_bench
 

@@ -241,10 +241,11 @@ RunCgalMesh3(const LabelImage & image, const CgalCriteria & criteria)
                               parameters::facet_distance = criteria.facetDistance,
                               parameters::cell_radius_edge_ratio = 2.0,
                               parameters::cell_size = criteria.cellSize);
+  const auto          topology = criteria.manifold ? parameters::manifold() : parameters::non_manifold();
   const Complex       complex =
     criteria.optimize
-            ? CGAL::make_mesh_3<Complex>(domain, meshCriteria)
-            : CGAL::make_mesh_3<Complex>(domain, meshCriteria, parameters::no_perturb(), parameters::no_exude());
+            ? CGAL::make_mesh_3<Complex>(domain, meshCriteria, topology)
+            : CGAL::make_mesh_3<Complex>(domain, meshCriteria, parameters::no_perturb(), parameters::no_exude(), topology);
   MesherOutput output;
   output.totalSeconds = SecondsSince(start);
   output.totalCpuSeconds = ProcessCpuSeconds() - cpuStart;

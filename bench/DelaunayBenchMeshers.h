@@ -56,6 +56,9 @@ struct CgalCriteria
   double cellSize{ 0.0 };
   /** CGAL's default perturbation and exudation after the refinement; false = neither. */
   bool optimize{ false };
+  /** CGAL's manifold() option: refine until every surface patch is a manifold (issue #18's row beside our
+   * topology). */
+  bool manifold{ false };
 };
 
 /** CGAL::make_mesh_3 on Labeled_mesh_domain_3::create_labeled_image_mesh_domain() of the same image,
