@@ -39,6 +39,7 @@
 #include <iterator>
 #include <map>
 #include <set>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -62,7 +63,8 @@ public:
   std::size_t
   Relabel(const std::vector<VertexHandle> & nonManifoldVertices)
   {
-    const std::size_t         changesBefore = m_Changes.size();
+    const std::size_t changesBefore = m_Changes.size();
+    m_Stars.clear();
     std::vector<VertexHandle> candidates;
     std::copy_if(nonManifoldVertices.begin(),
                  nonManifoldVertices.end(),
@@ -98,6 +100,7 @@ public:
         change.cell->cache.relabelledForTopology = false;
       }
     }
+    m_Stars.clear();
     return m_Changes.size() - changesBefore;
   }
 
@@ -136,12 +139,9 @@ private:
   int
   NonManifoldLabelsAt(VertexHandle vertex) const
   {
-    const Triangulation & triangulation = m_State.GetTriangulation();
-    m_Star.clear();
-    triangulation.incident_cells(vertex, std::back_inserter(m_Star));
     // (label, link edge): a few dozen entries, so flat and sorted rather than a map of vectors.
     m_Links.clear();
-    for (const CellHandle cell : m_Star)
+    for (const CellHandle cell : StarOf(vertex))
     {
       const int   own = cell->index(vertex);
       const Label label = LabelOf(cell);
@@ -191,6 +191,19 @@ private:
       first = last;
     }
     return nonManifold;
+  }
+
+  /** The vertex's incident cells. A relabelling pass changes labels only, never the triangulation, and tries many
+   * moves around each vertex, each asking for the stars of the same corners: they are collected once per pass. */
+  const std::vector<CellHandle> &
+  StarOf(VertexHandle vertex) const
+  {
+    const auto [entry, isNew] = m_Stars.try_emplace(&*vertex);
+    if (isNew)
+    {
+      m_State.GetTriangulation().incident_cells(vertex, std::back_inserter(entry->second));
+    }
+    return entry->second;
   }
 
   /** An edge of a label's link at a vertex. */
@@ -559,9 +572,10 @@ private:
   MeshState &           m_State;
   const LocalSampling & m_Sizing;
   std::vector<Change>   m_Changes;
+  // The stars collected in the current pass (StarOf()), keyed by the vertex's address.
+  mutable std::unordered_map<const void *, std::vector<CellHandle>> m_Stars;
   // Scratch space of NonManifoldLabelsAt(), which runs for every corner of every move tried.
-  mutable std::vector<CellHandle> m_Star;
-  mutable std::vector<LinkEdge>   m_Links;
+  mutable std::vector<LinkEdge> m_Links;
 };
 
 } // namespace detail
