@@ -339,6 +339,12 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::FillOutputs(const delaunay_
     interfaces->SetCell(i, cell);
     interfaces->SetCellData(i, static_cast<CellPixelType>(mesh.boundaryTriangleLabels[i][0]));
   }
+  // A point set whose buffered region differs from its requested one is out of date for ITK's pipeline
+  // (PointSet::RequestedRegionIsOutsideOfTheBufferedRegion), which would mesh again on every Update(), also when a
+  // downstream filter (ITK's FEM registration, say) pulls the mesh: both outputs hold what was requested, as ITK's
+  // own mesh filters declare.
+  tetrahedra->SetBufferedRegion(tetrahedra->GetRequestedRegion());
+  interfaces->SetBufferedRegion(interfaces->GetRequestedRegion());
 }
 
 template <typename TInputImage, typename TOutputMesh>

@@ -1601,6 +1601,28 @@ TEST(Progress, FilterRunsAgainAfterAnAbort)
   ExpectGuarantees(*meshed);
 }
 
+// ---- Pipeline ------------------------------------------------------------------------------------------------
+
+/** ITK's pipeline runs a filter again only when something changed: a second Update(), or a downstream filter pulling
+ * the outputs (ITK's FEM registration pulls the mesh it is given), must not mesh again. The outputs are point sets,
+ * out of date for the pipeline until their buffered region is the requested one. */
+TEST(Pipeline, UpdateRunsTheFilterOnlyWhenSomethingChanged)
+{
+  const auto image = SmallBall();
+  auto       filter = FilterFor(image.GetPointer(), 1.0);
+  int        runs = 0;
+  filter->AddObserver(itk::StartEvent(), [&runs](const itk::EventObject &) { ++runs; });
+  filter->Update();
+  ASSERT_EQ(runs, 1);
+  filter->Update();
+  filter->GetOutput()->Update();
+  filter->GetInterfaceMesh()->Update();
+  EXPECT_EQ(runs, 1) << "Update() meshed again although nothing changed";
+  filter->SetSurfaceSamplingDistance(1.5);
+  filter->GetOutput()->Update();
+  EXPECT_EQ(runs, 2) << "a changed parameter did not mesh again";
+}
+
 // ---- Determinism ---------------------------------------------------------------------------------------------
 
 void
