@@ -36,6 +36,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <iterator>
 #include <map>
 #include <set>
@@ -51,9 +52,10 @@ namespace detail
 class TopologyRelabel
 {
 public:
-  TopologyRelabel(MeshState & state, const LocalSampling & sizing)
+  TopologyRelabel(MeshState & state, const LocalSampling & sizing, double radiusEdgeBound)
     : m_State(state)
     , m_Sizing(sizing)
+    , m_RadiusEdgeBound(radiusEdgeBound)
   {}
 
   /** Relabels at the non-manifold places while a move removes some (the extracted mesh lists the tetrahedra that
@@ -357,7 +359,8 @@ private:
       cell->cache.label = move.label;
     }
     int gain = 0;
-    if (CountIsolated(near) <= isolatedBefore && NewBoundaryFacetsAreGood(move, oldLabels))
+    if ((move.label == BackgroundLabel || AreWellShaped(move.cells)) && CountIsolated(near) <= isolatedBefore &&
+        NewBoundaryFacetsAreGood(move, oldLabels))
     {
       int after = 0;
       for (const VertexHandle corner : corners)
@@ -371,6 +374,18 @@ private:
       move.cells[index]->cache.label = oldLabels[index];
     }
     return gain;
+  }
+
+  /** Whether every cell's radius-edge ratio is below ρ: a background tetrahedron was never split for its shape, and
+   * one that takes a tissue's label is an output tetrahedron, which must keep the bound (R4's test, on the cached
+   * circumradius). */
+  bool
+  AreWellShaped(const std::vector<CellHandle> & cells) const
+  {
+    return std::all_of(cells.begin(), cells.end(), [this](CellHandle cell) {
+      return std::sqrt(cell->cache.squaredRadius) <
+             m_RadiusEdgeBound * ShortestEdgeLength(m_State.CornersOf(cell)) * (1.0 - ShapeMargin);
+    });
   }
 
   /** How many of the cells carry a tissue's label that none of their face neighbours carries: a move must not make
@@ -569,8 +584,12 @@ private:
 
   static constexpr Label UnionKey = BackgroundLabel;
 
+  /** R4's margin against rounding (RefinementRules): a ratio this close to ρ counts as reaching it. */
+  static constexpr double ShapeMargin = 1e-12;
+
   MeshState &           m_State;
   const LocalSampling & m_Sizing;
+  const double          m_RadiusEdgeBound;
   std::vector<Change>   m_Changes;
   // The stars collected in the current pass (StarOf()), keyed by the vertex's address.
   mutable std::unordered_map<const void *, std::vector<CellHandle>> m_Stars;
