@@ -50,39 +50,43 @@ fetch_itk_source() {
   ln -sfn "$repository" "$cache/source/Modules/Remote/DelaunayImageToMesh"
 }
 
-# ITK 5.2's own wrapping (itkImageDuplicator.wrap) fails to configure when no vector pixel type is wrapped,
-# so the default vector types stay on.
+# What both trees share: a release build of only the modules asked for, shared libraries, no tests or examples.
+itk_tree_options=(
+  -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER_LAUNCHER=ccache
+  -DBUILD_TESTING=OFF -DBUILD_EXAMPLES=OFF -DBUILD_SHARED_LIBS=ON -DITK_BUILD_DEFAULT_MODULES=OFF
+  -DModule_DelaunayImageToMesh=ON
+)
+
+# Configures and builds one tree of the source: directory, log name, then its own options.
+configure_and_build_tree() {
+  local tree=$1 log=$2
+  shift 2
+  cmake -S "$cache/source" -B "$tree" "${itk_tree_options[@]}" "$@" >"$cache/$log-configure.log"
+  cmake --build "$tree" -j"$(nproc)" >"$cache/$log-build.log" 2>&1 || { tail -40 "$cache/$log-build.log"; exit 1; }
+}
+
+# The wrapped tree. ITK 5.2's own wrapping (itkImageDuplicator.wrap) fails to configure when no vector pixel type is
+# wrapped, so the default vector types stay on.
 configure_and_build() {
-  cmake -S "$cache/source" -B "$build" \
-    -DCMAKE_BUILD_TYPE=Release \
-    -DCMAKE_CXX_COMPILER_LAUNCHER=ccache \
-    -DBUILD_TESTING=OFF -DBUILD_EXAMPLES=OFF -DBUILD_SHARED_LIBS=ON \
-    -DITK_BUILD_DEFAULT_MODULES=OFF \
+  configure_and_build_tree "$build" python \
     -DModule_ITKMesh=ON -DModule_ITKImageFunction=ON \
-    -DModule_ITKIONIFTI=ON -DModule_ITKBridgeNumPy=ON \
-    -DModule_DelaunayImageToMesh=ON -DModule_ITKFEMRegistration=OFF \
+    -DModule_ITKIONIFTI=ON -DModule_ITKBridgeNumPy=ON -DModule_ITKFEMRegistration=OFF \
     -DITK_WRAP_PYTHON=ON -DITK_WRAP_IMAGE_DIMS=3 \
     -DITK_WRAP_unsigned_char=ON -DITK_WRAP_signed_short=ON -DITK_WRAP_float=ON \
     -DITK_WRAP_unsigned_short=OFF -DITK_WRAP_double=OFF \
     -DITK_WRAP_vector_float=ON -DITK_WRAP_covariant_vector_float=ON \
     -DITK_USE_SYSTEM_SWIG=ON -DITK_USE_SYSTEM_CASTXML=ON \
-    -DPython3_EXECUTABLE="$python" >"$cache/configure.log"
-  cmake --build "$build" -j"$(nproc)" >"$cache/build.log" 2>&1 || { tail -40 "$cache/build.log"; exit 1; }
+    -DPython3_EXECUTABLE="$python"
 }
 
 # The registration test's tree: ITK's FEM registration and this module, unwrapped. Not the wrapped tree: the FEM
 # modules pull in ITKImageGradient, whose wrapping fails to generate with the few pixel types wrapped here (an empty
 # output type for GradientRecursiveGaussianImageFilter), and an unwrapped tree of these modules builds in minutes.
 configure_and_build_fem() {
-  cmake -S "$cache/source" -B "$fem_build" \
-    -DCMAKE_BUILD_TYPE=Release \
-    -DCMAKE_CXX_COMPILER_LAUNCHER=ccache \
-    -DBUILD_TESTING=OFF -DBUILD_EXAMPLES=OFF -DBUILD_SHARED_LIBS=ON \
-    -DITK_BUILD_DEFAULT_MODULES=OFF \
-    -DModule_DelaunayImageToMesh=ON -DModule_ITKFEMRegistration=ON -DModule_ITKImageGrid=ON \
+  configure_and_build_tree "$fem_build" fem \
+    -DModule_ITKFEMRegistration=ON -DModule_ITKImageGrid=ON \
     -DModule_ITKIONIFTI=ON -DModule_ITKIONRRD=ON -DModule_ITKIOMeta=ON \
-    -DITK_WRAP_PYTHON=OFF >"$cache/fem-configure.log"
-  cmake --build "$fem_build" -j"$(nproc)" >"$cache/fem-build.log" 2>&1 || { tail -40 "$cache/fem-build.log"; exit 1; }
+    -DITK_WRAP_PYTHON=OFF
 }
 
 # ITK 5.2.1's Python still says numpy.bool, which NumPy 1.24 (Debian 12) removed.
