@@ -21,6 +21,7 @@
 #include "DelaunayRefinementTypes.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace delaunay_refinement
@@ -127,6 +128,17 @@ MinimumDihedralAngle(const std::array<Vector3, 4> & corners)
 {
   const std::array<double, 6> angles = DihedralAngles(corners);
   return *std::min_element(angles.begin(), angles.end());
+}
+
+/** R4's test: whether a tetrahedron with these corners and this (cached) squared circumradius reaches the
+ * radius-edge bound ρ. Within rounding of ρ counts as reaching it: the circumradius cached by the refinement and the
+ * one a user recomputes from the written coordinates differ in the last bits, and the bound is a promise about the
+ * latter (a randomized case met 1.0000000000000056 >= ρ = 1). */
+inline bool
+ReachesRadiusEdgeBound(double squaredCircumradius, const std::array<Vector3, 4> & corners, double radiusEdgeBound)
+{
+  constexpr double RoundingMargin = 1e-12;
+  return std::sqrt(squaredCircumradius) >= radiusEdgeBound * ShortestEdgeLength(corners) * (1.0 - RoundingMargin);
 }
 
 /** A tetrahedron is flat to rounding when its volume is at most this × its shortest edge cubed: ten times what the

@@ -190,8 +190,7 @@ private:
   QualityRuleFor(CellHandle cell) const
   {
     const std::array<Vector3, 4> corners = m_State.CornersOf(cell);
-    if (std::sqrt(cell->cache.squaredRadius) >=
-        m_Parameters.radiusEdgeBound * ShortestEdgeLength(corners) * (1.0 - RoundingMargin))
+    if (ReachesRadiusEdgeBound(cell->cache.squaredRadius, corners, m_Parameters.radiusEdgeBound))
     {
       return Rule::R4;
     }
@@ -261,11 +260,6 @@ private:
     }
     return best;
   }
-
-  /** A tetrahedron within rounding of the radius-edge bound is split too: the circumradius cached here and the one
-   * a user recomputes from the written coordinates differ in the last bits, and the bound is a promise about the
-   * latter (a randomized case met 1.0000000000000056 >= ρ = 1). */
-  static constexpr double RoundingMargin = 1e-12;
 
   const LabelOracle &          m_Oracle;
   const RefinementParameters & m_Parameters;

@@ -61,7 +61,7 @@ public:
   /** Relabels at the non-manifold places while a move removes some (the extracted mesh lists the tetrahedra that
    * took another label), starting from `nonManifoldVertices` (ManifoldRepair::FindNonManifoldPlaces(), in
    * insertion order: the same link test on the extracted triangles, so the whole mesh is not walked twice); only
-   * feature vertices are worked on. Returns how many moves were made. */
+   * feature vertices are worked on. Returns how many tetrahedra it relabelled (0: nothing changed). */
   std::size_t
   Relabel(const std::vector<VertexHandle> & nonManifoldVertices)
   {
@@ -382,9 +382,8 @@ private:
   bool
   AreWellShaped(const std::vector<CellHandle> & cells) const
   {
-    return std::all_of(cells.begin(), cells.end(), [this](CellHandle cell) {
-      return std::sqrt(cell->cache.squaredRadius) <
-             m_RadiusEdgeBound * ShortestEdgeLength(m_State.CornersOf(cell)) * (1.0 - ShapeMargin);
+    return std::none_of(cells.begin(), cells.end(), [this](CellHandle cell) {
+      return ReachesRadiusEdgeBound(cell->cache.squaredRadius, m_State.CornersOf(cell), m_RadiusEdgeBound);
     });
   }
 
@@ -583,9 +582,6 @@ private:
   }
 
   static constexpr Label UnionKey = BackgroundLabel;
-
-  /** R4's margin against rounding (RefinementRules): a ratio this close to ρ counts as reaching it. */
-  static constexpr double ShapeMargin = 1e-12;
 
   MeshState &           m_State;
   const LocalSampling & m_Sizing;
