@@ -36,8 +36,15 @@ struct RefinementStatistics
   std::size_t insertionsR2{ 0 };
   std::size_t insertionsR3{ 0 };
   std::size_t insertionsR4{ 0 };
-  /** Insertions by the R4' variant (minimum dihedral angle). */
+  /** Insertions by the R4' variant (minimum dihedral angle); of them, the points on the surface (feature
+   * vertices), those that changed a boundary or interface triangle, and those that failed the acceptance test (a
+   * free vertex or an angle <= 30° on a boundary, docs/algorithm.md, "R4′ picks its point"). */
   std::size_t insertionsR4Dihedral{ 0 };
+  std::size_t sliverSplitsOnSurface{ 0 };
+  std::size_t sliverSplitsChangingBoundary{ 0 };
+  std::size_t sliverSplitsFailingAcceptance{ 0 };
+  /** Slivers R4' left unsplit as caps on the background, for the flat-cap step to peel off. */
+  std::size_t sliverCapsLeftToPeel{ 0 };
   std::size_t insertionsE1{ 0 };
   std::size_t insertionsE2{ 0 };
   std::size_t insertionsE3{ 0 };

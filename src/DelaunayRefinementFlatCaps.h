@@ -26,7 +26,9 @@
 // (so their angles keep the 30° bound: each is half an arc of the circle that the old facets' angles bound below by
 // 60°), and the boundary moves by the cap's thickness only. Splitting it instead, as a sliver, puts free vertices
 // on the boundary and edges below δ (Lemmas 2 and 5), so it is relabelled, after every rule and repair, and only
-// where that makes no boundary non-manifold.
+// where that makes no boundary non-manifold. With σ > 0 the same step peels off the background the slivers that
+// R4′ left as caps on it (no split point there passed its acceptance test): their new boundary triangles are
+// checked for 30°, since they are not co-circular.
 
 #include "DelaunayRefinementGeometry.h"
 #include "DelaunayRefinementManifoldRepair.h"
@@ -34,6 +36,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <optional>
 #include <set>
 #include <utility>
 #include <vector>
@@ -46,10 +50,47 @@ namespace detail
 class FlatCaps
 {
 public:
-  FlatCaps(const MeshState & state, const ManifoldRepair & repair)
+  FlatCaps(const MeshState & state, const ManifoldRepair & repair, double minimumDihedralAngle)
     : m_State(state)
     , m_Repair(repair)
+    , m_MinimumDihedralAngle(minimumDihedralAngle)
+    , m_CosineOfSigma(std::cos(DegreesToRadians(minimumDihedralAngle)))
   {}
+
+  /** The label a tissue's tetrahedron would take as a cap: the one beyond its two boundary facets when exactly two
+   * of its facets are on its label's boundary, both against that label, and its other two facets, which would
+   * take their place, have every planar angle above 30°. None for any other tetrahedron. */
+  static std::optional<Label>
+  LabelAsCap(const MeshState & state, CellHandle cell)
+  {
+    const Label label = cell->cache.label;
+    if (label == BackgroundLabel)
+    {
+      return std::nullopt;
+    }
+    std::vector<int> boundaryFacets;
+    std::vector<int> innerFacets;
+    for (int facet = 0; facet < 4; ++facet)
+    {
+      (state.LabelBeyondFacet(cell, facet) == label ? innerFacets : boundaryFacets).push_back(facet);
+    }
+    if (boundaryFacets.size() != 2 ||
+        state.LabelBeyondFacet(cell, boundaryFacets[0]) != state.LabelBeyondFacet(cell, boundaryFacets[1]) ||
+        !HaveAnglesAbove30Degrees(state, cell, innerFacets))
+    {
+      return std::nullopt;
+    }
+    return state.LabelBeyondFacet(cell, boundaryFacets[0]);
+  }
+
+  /** Whether R4′ leaves the sliver `cell` to this step: with σ > 0, a sliver that is a cap on the background is
+   * peeled off (relabelled to the background) like a flat cap, since no split point can leave its boundary with
+   * surface vertices and 30° angles (SliverSplit). */
+  static bool
+  IsCapOnBackground(const MeshState & state, CellHandle cell)
+  {
+    return LabelAsCap(state, cell) == std::optional<Label>(BackgroundLabel);
+  }
 
   /** Gives every flat cap the label beyond its boundary facets where no boundary becomes non-manifold by it;
    * returns how many were relabelled. */
@@ -95,38 +136,36 @@ private:
     const Triangulation &                     triangulation = m_State.GetTriangulation();
     for (auto cell = triangulation.finite_cells_begin(); cell != triangulation.finite_cells_end(); ++cell)
     {
-      const Label label = cell->cache.label;
-      if (label == BackgroundLabel || !IsFlatToRounding(m_State.CornersOf(cell)))
+      if (cell->cache.label == BackgroundLabel)
       {
         continue;
       }
-      std::vector<int> boundaryFacets;
-      std::vector<int> innerFacets;
-      for (int facet = 0; facet < 4; ++facet)
-      {
-        (m_State.LabelBeyondFacet(cell, facet) == label ? innerFacets : boundaryFacets).push_back(facet);
-      }
-      if (boundaryFacets.size() != 2 ||
-          m_State.LabelBeyondFacet(cell, boundaryFacets[0]) != m_State.LabelBeyondFacet(cell, boundaryFacets[1]) ||
-          !HaveAnglesAbove30Degrees(cell, innerFacets))
+      const std::array<Vector3, 4> corners = m_State.CornersOf(cell);
+      const bool isSliver = m_MinimumDihedralAngle > 0.0 && CosineOfSmallestDihedralAngle(corners) > m_CosineOfSigma;
+      if (!isSliver && !IsFlatToRounding(corners))
       {
         continue;
       }
-      caps.emplace_back(cell, m_State.LabelBeyondFacet(cell, boundaryFacets[0]));
+      const std::optional<Label> label = LabelAsCap(m_State, cell);
+      // A sliver is peeled off the background only: given another tissue's label it would stay in the mesh.
+      if (label && (*label == BackgroundLabel || !isSliver || IsFlatToRounding(corners)))
+      {
+        caps.emplace_back(cell, *label);
+      }
     }
     return caps;
   }
 
   /** Whether the facets that would become boundary keep every planar angle above 30° (on a nearly co-circular
    * cap they do by the arcs; rounding decides). */
-  bool
-  HaveAnglesAbove30Degrees(CellHandle cell, const std::vector<int> & facets) const
+  static bool
+  HaveAnglesAbove30Degrees(const MeshState & state, CellHandle cell, const std::vector<int> & facets)
   {
     for (const int facet : facets)
     {
-      if (!HasPlanarAnglesAbove30Degrees(m_State.PointOf(cell->vertex(Triangulation::vertex_triple_index(facet, 0))),
-                                         m_State.PointOf(cell->vertex(Triangulation::vertex_triple_index(facet, 1))),
-                                         m_State.PointOf(cell->vertex(Triangulation::vertex_triple_index(facet, 2)))))
+      if (!HasPlanarAnglesAbove30Degrees(state.PointOf(cell->vertex(Triangulation::vertex_triple_index(facet, 0))),
+                                         state.PointOf(cell->vertex(Triangulation::vertex_triple_index(facet, 1))),
+                                         state.PointOf(cell->vertex(Triangulation::vertex_triple_index(facet, 2)))))
       {
         return false;
       }
@@ -158,6 +197,8 @@ private:
 
   const MeshState &      m_State;
   const ManifoldRepair & m_Repair;
+  const double           m_MinimumDihedralAngle;
+  const double           m_CosineOfSigma;
 };
 
 } // namespace detail

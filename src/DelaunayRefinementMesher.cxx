@@ -68,7 +68,7 @@ public:
     , m_State(oracle, parameters)
     , m_Sizing(parameters.surfaceSamplingDistance)
     , m_BoxProtection(m_State, parameters.surfaceSamplingDistance, m_Statistics)
-    , m_SliverSplit(m_State, m_BoxProtection, parameters.radiusEdgeBound, parameters.minimumDihedralAngle)
+    , m_SliverSplit(oracle, m_State, m_BoxProtection, parameters.radiusEdgeBound, parameters.minimumDihedralAngle)
     , m_Rules(oracle, parameters, m_State, m_Sizing, m_BoxProtection.Box())
     , m_Extraction(m_State)
     , m_Repair(m_State, m_Extraction, m_Sizing, parameters)
@@ -96,7 +96,7 @@ public:
     m_BoxProtection.CreateBox(objectBounds);
     RefineUntilNoRuleApplies();
     RepairTopology();
-    m_Statistics.flatCapsRelabelled = FlatCaps(m_State, m_Repair).Relabel();
+    m_Statistics.flatCapsRelabelled = FlatCaps(m_State, m_Repair, m_Parameters.minimumDihedralAngle).Relabel();
     const auto      extractionStart = std::chrono::steady_clock::now();
     TetrahedralMesh mesh = m_Extraction.ExtractMesh(m_Sizing);
     m_Statistics.topologyRelabelledTetrahedra = mesh.topologyRelabelledTetrahedra.size();
@@ -146,12 +146,27 @@ private:
         ++m_Statistics.insertionsR4;
         return m_State.InsertVertex(action.point, VertexKind::Free, cell).has_value();
       case Rule::R4Dihedral:
-        ++m_Statistics.insertionsR4Dihedral;
-        return m_State
-          .InsertVertex(m_SliverSplit.Choose(cell, action.point, cell->cache.squaredRadius), VertexKind::Free, cell)
-          .has_value();
+        return SplitSliver(cell, action.point);
     }
     return false;
+  }
+
+  /** R4': the point SliverSplit chooses, free or on the surface. A sliver for which no point passes its acceptance
+   * test and which is a cap on the background is left for FlatCaps to peel off. */
+  bool
+  SplitSliver(CellHandle cell, const Vector3 & center)
+  {
+    const SliverSplit::Split split = m_SliverSplit.Choose(cell, center, cell->cache.squaredRadius);
+    if (!split.accepted && FlatCaps::IsCapOnBackground(m_State, cell))
+    {
+      ++m_Statistics.sliverCapsLeftToPeel;
+      return false;
+    }
+    ++m_Statistics.insertionsR4Dihedral;
+    m_Statistics.sliverSplitsOnSurface += split.kind == VertexKind::Feature;
+    m_Statistics.sliverSplitsChangingBoundary += split.changesBoundary;
+    m_Statistics.sliverSplitsFailingAcceptance += !split.accepted;
+    return m_State.InsertVertex(split.point, split.kind, cell).has_value();
   }
 
   bool
@@ -337,9 +352,9 @@ private:
   RefinementRules              m_Rules;
   MeshExtraction               m_Extraction;
   ManifoldRepair               m_Repair;
-  TopologyRelabel              m_Relabelling{ m_State, m_Sizing, m_Parameters.radiusEdgeBound };
-  RefinementQueue              m_Queue;
-  double                       m_ProgressFraction{ 0.0 };
+  TopologyRelabel m_Relabelling{ m_State, m_Sizing, m_Parameters.radiusEdgeBound, m_Parameters.minimumDihedralAngle };
+  RefinementQueue m_Queue;
+  double          m_ProgressFraction{ 0.0 };
 };
 
 } // namespace

@@ -52,10 +52,12 @@ namespace detail
 class TopologyRelabel
 {
 public:
-  TopologyRelabel(MeshState & state, const LocalSampling & sizing, double radiusEdgeBound)
+  TopologyRelabel(MeshState & state, const LocalSampling & sizing, double radiusEdgeBound, double minimumDihedralAngle)
     : m_State(state)
     , m_Sizing(sizing)
     , m_RadiusEdgeBound(radiusEdgeBound)
+    , m_MinimumDihedralAngle(minimumDihedralAngle)
+    , m_CosineOfSigma(std::cos(DegreesToRadians(minimumDihedralAngle)))
   {}
 
   /** Relabels at the non-manifold places while a move removes some (the extracted mesh lists the tetrahedra that
@@ -376,14 +378,16 @@ private:
     return gain;
   }
 
-  /** Whether every cell's radius-edge ratio is below ρ: a background tetrahedron was never split for its shape, and
-   * one that takes a tissue's label is an output tetrahedron, which must keep the bound (R4's test, on the cached
-   * circumradius). */
+  /** Whether every cell's radius-edge ratio is below ρ and, when σ > 0, every dihedral angle at least σ: a
+   * background tetrahedron was never split for its shape, and one that takes a tissue's label is an output
+   * tetrahedron, which must keep the bounds (R4's and R4′'s tests, the first on the cached circumradius). */
   bool
   AreWellShaped(const std::vector<CellHandle> & cells) const
   {
     return std::none_of(cells.begin(), cells.end(), [this](CellHandle cell) {
-      return ReachesRadiusEdgeBound(cell->cache.squaredRadius, m_State.CornersOf(cell), m_RadiusEdgeBound);
+      const std::array<Vector3, 4> corners = m_State.CornersOf(cell);
+      return ReachesRadiusEdgeBound(cell->cache.squaredRadius, corners, m_RadiusEdgeBound) ||
+             (m_MinimumDihedralAngle > 0.0 && CosineOfSmallestDihedralAngle(corners) > m_CosineOfSigma);
     });
   }
 
@@ -586,6 +590,8 @@ private:
   MeshState &           m_State;
   const LocalSampling & m_Sizing;
   const double          m_RadiusEdgeBound;
+  const double          m_MinimumDihedralAngle;
+  const double          m_CosineOfSigma;
   std::vector<Change>   m_Changes;
   // The stars collected in the current pass (StarOf()), keyed by the vertex's address.
   mutable std::unordered_map<const void *, std::vector<CellHandle>> m_Stars;
