@@ -281,7 +281,7 @@ ExpectWellFormed(const MeshedShape & meshed)
   EXPECT_EQ(consistency.wrongOrientation, 0u);
 }
 
-/** The R4' variant (σ > 0) splits slivers at their circumcentres, which may come closer than δ to other
+/** The R4' variant (σ > 0) splits slivers near their circumcentres, which may come closer than δ to other
  * vertices: Lemma 2, and with it the 30° bound of Theorem 2 and Lemma 5, are then not guaranteed (the paper,
  * §VI-B, and RefinementParameters::minimumDihedralAngle say so). Those checks apply without R4' only. */
 bool
@@ -307,8 +307,8 @@ ExpectQuality(const MeshedShape & meshed, const RefinementParameters & parameter
 
 /** Lemma 2: feature >= δ, free >= min(ρ, 2) δ (R2 inserts at >= 2δ, R4 at >= ρδ), box >= 2δ, edge by edge with the
  * local δ the refinement exported at the edge's ends (which must be δ everywhere: these runs use no manifold
- * refinement). The R4' variant inserts circumcentres of slivers, whose circumradius has no lower bound in δ, so the
- * feature and free bounds are only checked without it (see UsesSliverRule). */
+ * refinement). The R4' variant inserts points near circumcentres of slivers, whose circumradius has no lower bound in
+ * δ, so the feature and free bounds are only checked without it (see UsesSliverRule). */
 void
 ExpectShortestEdges(const MeshedShape & meshed, const RefinementParameters & parameters)
 {
