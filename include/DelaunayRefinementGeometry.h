@@ -141,6 +141,35 @@ ReachesRadiusEdgeBound(double squaredCircumradius, const std::array<Vector3, 4> 
   return std::sqrt(squaredCircumradius) >= radiusEdgeBound * ShortestEdgeLength(corners) * (1.0 - RoundingMargin);
 }
 
+/** R4′'s test, written once for the rules and for the steps that must not give a tissue what R4′ would split:
+ * σ in degrees, off for σ = 0. Compares cosines, which fall as angles grow: cos σ is computed once. */
+class DihedralAngleBound
+{
+public:
+  explicit DihedralAngleBound(double minimumDihedralAngle)
+    : m_IsOn(minimumDihedralAngle > 0.0)
+    , m_CosineOfSigma(std::cos(DegreesToRadians(minimumDihedralAngle)))
+  {}
+
+  /** Whether a tetrahedron has a dihedral angle below σ (never while σ = 0). */
+  bool
+  IsSliver(const std::array<Vector3, 4> & corners) const
+  {
+    return m_IsOn && CosineOfSmallestDihedralAngle(corners) > m_CosineOfSigma;
+  }
+
+  /** Whether a smallest dihedral angle with this cosine reaches σ. */
+  bool
+  IsReachedBy(double cosineOfSmallestAngle) const
+  {
+    return cosineOfSmallestAngle <= m_CosineOfSigma;
+  }
+
+private:
+  bool   m_IsOn;
+  double m_CosineOfSigma;
+};
+
 /** A tetrahedron is flat to rounding when its volume is at most this × its shortest edge cubed: ten times what the
  * output promises (1e-6), so that the promise survives coordinates rounded on output; a regular one has 0.118.
  * Its circumcentre, and so the label there, is then numerically arbitrary (docs/algorithm.md, "Flat caps"). */

@@ -36,7 +36,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cmath>
 #include <optional>
 #include <set>
 #include <utility>
@@ -53,8 +52,7 @@ public:
   FlatCaps(const MeshState & state, const ManifoldRepair & repair, double minimumDihedralAngle)
     : m_State(state)
     , m_Repair(repair)
-    , m_MinimumDihedralAngle(minimumDihedralAngle)
-    , m_CosineOfSigma(std::cos(DegreesToRadians(minimumDihedralAngle)))
+    , m_DihedralBound(minimumDihedralAngle)
   {}
 
   /** The label a tissue's tetrahedron would take as a cap: the one beyond its two boundary facets when exactly two
@@ -141,14 +139,14 @@ private:
         continue;
       }
       const std::array<Vector3, 4> corners = m_State.CornersOf(cell);
-      const bool isSliver = m_MinimumDihedralAngle > 0.0 && CosineOfSmallestDihedralAngle(corners) > m_CosineOfSigma;
-      if (!isSliver && !IsFlatToRounding(corners))
+      const bool                   isFlat = IsFlatToRounding(corners);
+      if (!isFlat && !m_DihedralBound.IsSliver(corners))
       {
         continue;
       }
       const std::optional<Label> label = LabelAsCap(m_State, cell);
       // A sliver is peeled off the background only: given another tissue's label it would stay in the mesh.
-      if (label && (*label == BackgroundLabel || !isSliver || IsFlatToRounding(corners)))
+      if (label && (isFlat || *label == BackgroundLabel))
       {
         caps.emplace_back(cell, *label);
       }
@@ -195,10 +193,9 @@ private:
     return false;
   }
 
-  const MeshState &      m_State;
-  const ManifoldRepair & m_Repair;
-  const double           m_MinimumDihedralAngle;
-  const double           m_CosineOfSigma;
+  const MeshState &        m_State;
+  const ManifoldRepair &   m_Repair;
+  const DihedralAngleBound m_DihedralBound;
 };
 
 } // namespace detail

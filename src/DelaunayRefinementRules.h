@@ -69,7 +69,7 @@ public:
     : m_Oracle(oracle)
     , m_Parameters(parameters)
     , m_Delta(parameters.surfaceSamplingDistance)
-    , m_CosineOfSigma(std::cos(DegreesToRadians(parameters.minimumDihedralAngle)))
+    , m_DihedralBound(parameters.minimumDihedralAngle)
     , m_State(state)
     , m_Sizing(sizing)
     , m_Box(box)
@@ -208,7 +208,7 @@ private:
   bool
   IsSliver(const std::array<Vector3, 4> & corners) const
   {
-    return m_Parameters.minimumDihedralAngle > 0.0 && CosineOfSmallestDihedralAngle(corners) > m_CosineOfSigma;
+    return m_DihedralBound.IsSliver(corners);
   }
 
   double
@@ -264,14 +264,13 @@ private:
   const LabelOracle &          m_Oracle;
   const RefinementParameters & m_Parameters;
   const double                 m_Delta;
-  /** R4' compares cosines: a dihedral angle below σ has a cosine above cos σ. */
-  const double           m_CosineOfSigma;
-  const MeshState &      m_State;
-  const LocalSampling &  m_Sizing;
-  const AxisAlignedBox & m_Box;
-  mutable Vector3        m_LastSurfaceQuery{};
-  mutable SurfacePoint   m_LastSurfacePoint{};
-  mutable bool           m_LastSurfaceQueryValid{ false };
+  const DihedralAngleBound     m_DihedralBound;
+  const MeshState &            m_State;
+  const LocalSampling &        m_Sizing;
+  const AxisAlignedBox &       m_Box;
+  mutable Vector3              m_LastSurfaceQuery{};
+  mutable SurfacePoint         m_LastSurfacePoint{};
+  mutable bool                 m_LastSurfaceQueryValid{ false };
 };
 
 } // namespace detail

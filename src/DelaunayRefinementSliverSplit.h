@@ -30,6 +30,7 @@
 #include "DelaunayRefinementGeometry.h"
 #include "DelaunayRefinementMeshState.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <iterator>
@@ -70,7 +71,7 @@ public:
     , m_State(state)
     , m_Box(box)
     , m_RadiusEdgeBound(radiusEdgeBound)
-    , m_CosineOfSigma(std::cos(DegreesToRadians(minimumDihedralAngle)))
+    , m_DihedralBound(minimumDihedralAngle)
   {}
 
   /** The point to insert for the sliver `cell` (circumcentre `center`, squared circumradius `squaredRadius`).
@@ -87,19 +88,18 @@ public:
   Choose(CellHandle cell, const Vector3 & center, double squaredRadius) const
   {
     const double radius = std::sqrt(squaredRadius);
-    m_Label = cell->cache.label;
-    Ranked     best;
-    const auto consider = [&](const Vector3 & point, VertexKind kind) {
+    Ranked       best;
+    const auto   consider = [&](const Vector3 & point, VertexKind kind) {
       const Ranked candidate = Evaluate(point, kind, cell, best);
       if (candidate.IsBetterThan(best))
       {
         best = candidate;
       }
-      return best.fault == Fault::None && !best.split.changesBoundary && best.cosine <= m_CosineOfSigma;
+      return best.split.accepted && !best.split.changesBoundary && m_DihedralBound.IsReachedBy(best.cosine);
     };
     if (consider(center, VertexKind::Free))
     {
-      return { best.split.point, best.split.kind, false, true };
+      return best.split;
     }
     for (const double fraction : { 0.5 * PickingRadius, PickingRadius })
     {
@@ -107,7 +107,7 @@ public:
       {
         if (consider(center + (fraction * radius) * direction, VertexKind::Free))
         {
-          return { best.split.point, best.split.kind, false, true };
+          return best.split;
         }
       }
     }
@@ -122,9 +122,7 @@ public:
     {
       return { center, VertexKind::Free, true, false };
     }
-    Split split = best.split;
-    split.accepted = best.fault == Fault::None;
-    return split;
+    return best.split;
   }
 
 private:
@@ -201,15 +199,16 @@ private:
     return directions;
   }
 
-  /** The acceptance test and the score of inserting `point` as a vertex of `kind`. Its new tetrahedra are its
-   * conflict region's boundary facets joined to it; each carries the label at its circumcentre. The labels are
-   * asked for only when the candidate's angles could beat `best`, since they cost an oracle query each. */
+  /** The acceptance test and the score of inserting `point` as a vertex of `kind` to split `sliver`. Its new
+   * tetrahedra are its conflict region's boundary facets joined to it; each carries the label at its circumcentre.
+   * The labels are asked for only when the candidate's angles could beat `best`, since they cost an oracle query
+   * each. */
   Ranked
-  Evaluate(const Vector3 & point, VertexKind kind, CellHandle hint, const Ranked & best) const
+  Evaluate(const Vector3 & point, VertexKind kind, CellHandle sliver, const Ranked & best) const
   {
     Ranked result;
     result.split = { point, kind, true, false };
-    if (!m_Box.IsStrictlyInsideBox(point) || !FindConflicts(point, hint))
+    if (!m_Box.IsStrictlyInsideBox(point) || !FindConflicts(point, sliver))
     {
       return result;
     }
@@ -224,7 +223,7 @@ private:
     }
     result.cosine = largestCosine;
     result.fault = Fault::Boundary;
-    if (!(largestCosine < best.cosine) && best.fault != Fault::Uninsertable && !best.split.changesBoundary)
+    if (!(largestCosine < best.cosine) && best.split.accepted && !best.split.changesBoundary)
     {
       return result; // cannot beat the best, whatever its boundary does
     }
@@ -233,9 +232,9 @@ private:
     {
       m_NewLabels.push_back(m_Oracle.LabelAt(TetrahedronCircumcenter(corners)));
     }
-    result.split.changesBoundary = ChangesBoundary();
-    result.fault =
-      !result.split.changesBoundary || NewBoundaryTrianglesAreGood(point, kind) ? Fault::None : Fault::Boundary;
+    result.split.changesBoundary = ChangesBoundary(sliver->cache.label);
+    result.split.accepted = !result.split.changesBoundary || NewBoundaryTrianglesAreGood(point, kind);
+    result.fault = result.split.accepted ? Fault::None : Fault::Boundary;
     return result;
   }
 
@@ -285,23 +284,13 @@ private:
    * all carry the sliver's label, a facet changes side. When they do, the restricted facets are the same
    * triangles, and the split cannot touch the boundary's topology, its angles or its distance to the surface. */
   bool
-  ChangesBoundary() const
+  ChangesBoundary(Label sliverLabel) const
   {
-    for (const CellHandle cell : m_ConflictCells)
-    {
-      if (cell->cache.label != m_Label)
-      {
-        return true;
-      }
-    }
-    for (const Label label : m_NewLabels)
-    {
-      if (label != m_Label)
-      {
-        return true;
-      }
-    }
-    return false;
+    return std::any_of(m_ConflictCells.begin(),
+                       m_ConflictCells.end(),
+                       [sliverLabel](CellHandle cell) { return cell->cache.label != sliverLabel; }) ||
+           std::any_of(
+             m_NewLabels.begin(), m_NewLabels.end(), [sliverLabel](Label label) { return label != sliverLabel; });
   }
 
   /** Whether every triangle that the insertion puts on a boundary (a facet whose two tetrahedra come to differ in
@@ -311,27 +300,20 @@ private:
   bool
   NewBoundaryTrianglesAreGood(const Vector3 & point, VertexKind kind) const
   {
-    const Triangulation & triangulation = m_State.GetTriangulation();
     m_Edges.clear();
     for (std::size_t index = 0; index < m_BoundaryFacets.size(); ++index)
     {
       const auto & [cell, opposite] = m_BoundaryFacets[index];
-      const CellHandle outside = cell->neighbor(opposite);
-      const Label      outsideLabel = triangulation.is_infinite(outside) ? BackgroundLabel : outside->cache.label;
-      std::array<VertexHandle, 3> corners{};
-      int                         next = 0;
-      for (int vertex = 0; vertex < 4; ++vertex)
-      {
-        if (vertex != opposite)
-        {
-          corners[next++] = cell->vertex(vertex);
-        }
-      }
-      const bool wasOnBoundary = cell->cache.label != outsideLabel;
-      const bool isOnBoundary = m_NewLabels[index] != outsideLabel;
+      const Label                       outsideLabel = m_State.LabelBeyondFacet(cell, opposite);
+      const std::array<VertexHandle, 3> corners{ cell->vertex(Triangulation::vertex_triple_index(opposite, 0)),
+                                                 cell->vertex(Triangulation::vertex_triple_index(opposite, 1)),
+                                                 cell->vertex(Triangulation::vertex_triple_index(opposite, 2)) };
+      const bool                        wasOnBoundary = cell->cache.label != outsideLabel;
+      const bool                        isOnBoundary = m_NewLabels[index] != outsideLabel;
       if (isOnBoundary && !wasOnBoundary &&
-          !IsGoodBoundaryTriangle(
-            m_State.PointOf(corners[0]), m_State.PointOf(corners[1]), m_State.PointOf(corners[2]), corners))
+          (IsFree(corners[0]) || IsFree(corners[1]) || IsFree(corners[2]) ||
+           !HasPlanarAnglesAbove30Degrees(
+             m_State.PointOf(corners[0]), m_State.PointOf(corners[1]), m_State.PointOf(corners[2]))))
       {
         return false;
       }
@@ -343,26 +325,26 @@ private:
         {
           std::swap(a, b);
         }
-        m_Edges.push_back({ a->info().id, b->info().id, index, a, b });
+        m_Edges.push_back({ a, b, index });
       }
     }
     // Each edge of the conflict region's boundary is on two of its facets; the triangle joining the new point to
     // it is on a boundary when their new tetrahedra differ in label.
-    std::sort(m_Edges.begin(), m_Edges.end(), [](const EdgeOfFacet & x, const EdgeOfFacet & y) {
-      return std::tie(x.first, x.second, x.facet) < std::tie(y.first, y.second, y.facet);
-    });
+    const auto key = [](const EdgeOfFacet & edge) {
+      return std::make_tuple(edge.a->info().id, edge.b->info().id, edge.facet);
+    };
+    std::sort(
+      m_Edges.begin(), m_Edges.end(), [&key](const EdgeOfFacet & x, const EdgeOfFacet & y) { return key(x) < key(y); });
     for (std::size_t index = 0; index + 1 < m_Edges.size(); ++index)
     {
       const EdgeOfFacet & edge = m_Edges[index];
       const EdgeOfFacet & twin = m_Edges[index + 1];
-      if (edge.first != twin.first || edge.second != twin.second || m_NewLabels[edge.facet] == m_NewLabels[twin.facet])
+      if (edge.a != twin.a || edge.b != twin.b || m_NewLabels[edge.facet] == m_NewLabels[twin.facet])
       {
         continue;
       }
-      if (kind == VertexKind::Free || !IsGoodBoundaryTriangle(m_State.PointOf(edge.a),
-                                                              m_State.PointOf(edge.b),
-                                                              point,
-                                                              std::array<VertexHandle, 3>{ edge.a, edge.b, edge.a }))
+      if (kind == VertexKind::Free || IsFree(edge.a) || IsFree(edge.b) ||
+          !HasPlanarAnglesAbove30Degrees(m_State.PointOf(edge.a), m_State.PointOf(edge.b), point))
       {
         return false;
       }
@@ -371,35 +353,24 @@ private:
   }
 
   static bool
-  IsGoodBoundaryTriangle(const Vector3 & a, const Vector3 & b, const Vector3 & c,
-                         const std::array<VertexHandle, 3> & vertices)
+  IsFree(const VertexHandle & vertex)
   {
-    for (const VertexHandle & vertex : vertices)
-    {
-      if (vertex->info().kind == VertexKind::Free)
-      {
-        return false;
-      }
-    }
-    return HasPlanarAnglesAbove30Degrees(a, b, c);
+    return vertex->info().kind == VertexKind::Free;
   }
 
-  /** An edge of a facet of the conflict region's boundary, by its vertex ids, ascending. */
+  /** An edge of a facet of the conflict region's boundary, its ends by ascending vertex id. */
   struct EdgeOfFacet
   {
-    VertexId     first;
-    VertexId     second;
-    std::size_t  facet;
     VertexHandle a;
     VertexHandle b;
+    std::size_t  facet;
   };
 
   const LabelOracle &                         m_Oracle;
   const MeshState &                           m_State;
   const BoxProtection &                       m_Box;
   double                                      m_RadiusEdgeBound;
-  double                                      m_CosineOfSigma;
-  mutable Label                               m_Label{ BackgroundLabel };
+  DihedralAngleBound                          m_DihedralBound;
   mutable std::vector<Triangulation::Facet>   m_BoundaryFacets;
   mutable std::vector<CellHandle>             m_ConflictCells;
   mutable std::vector<std::array<Vector3, 4>> m_NewTetrahedra;

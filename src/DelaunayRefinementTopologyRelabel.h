@@ -56,8 +56,7 @@ public:
     : m_State(state)
     , m_Sizing(sizing)
     , m_RadiusEdgeBound(radiusEdgeBound)
-    , m_MinimumDihedralAngle(minimumDihedralAngle)
-    , m_CosineOfSigma(std::cos(DegreesToRadians(minimumDihedralAngle)))
+    , m_DihedralBound(minimumDihedralAngle)
   {}
 
   /** Relabels at the non-manifold places while a move removes some (the extracted mesh lists the tetrahedra that
@@ -387,7 +386,7 @@ private:
     return std::none_of(cells.begin(), cells.end(), [this](CellHandle cell) {
       const std::array<Vector3, 4> corners = m_State.CornersOf(cell);
       return ReachesRadiusEdgeBound(cell->cache.squaredRadius, corners, m_RadiusEdgeBound) ||
-             (m_MinimumDihedralAngle > 0.0 && CosineOfSmallestDihedralAngle(corners) > m_CosineOfSigma);
+             m_DihedralBound.IsSliver(corners);
     });
   }
 
@@ -587,12 +586,11 @@ private:
 
   static constexpr Label UnionKey = BackgroundLabel;
 
-  MeshState &           m_State;
-  const LocalSampling & m_Sizing;
-  const double          m_RadiusEdgeBound;
-  const double          m_MinimumDihedralAngle;
-  const double          m_CosineOfSigma;
-  std::vector<Change>   m_Changes;
+  MeshState &              m_State;
+  const LocalSampling &    m_Sizing;
+  const double             m_RadiusEdgeBound;
+  const DihedralAngleBound m_DihedralBound;
+  std::vector<Change>      m_Changes;
   // The stars collected in the current pass (StarOf()), keyed by the vertex's address.
   mutable std::unordered_map<const void *, std::vector<CellHandle>> m_Stars;
   // Scratch space of NonManifoldLabelsAt(), which runs for every corner of every move tried.
