@@ -33,6 +33,7 @@
 #include "DelaunayRefinementGeometry.h"
 #include "DelaunayRefinementMeshState.h"
 #include "DelaunayRefinementSizing.h"
+#include "DelaunayRefinementVertexLinks.h"
 
 #include <algorithm>
 #include <array>
@@ -136,64 +137,11 @@ private:
     return a->info().id < b->info().id;
   }
 
-  /** How many labels' boundaries (the union's, keyed by the background, included) are not a manifold at the
-   * vertex: the facets of the star that separate the label from another make the label's link, which must be
-   * empty or one cycle. */
+  /** How many labels' boundaries are not a manifold at the vertex (VertexLinks). */
   int
   NonManifoldLabelsAt(VertexHandle vertex) const
   {
-    // (label, link edge): a few dozen entries, so flat and sorted rather than a map of vectors.
-    m_Links.clear();
-    for (const CellHandle cell : StarOf(vertex))
-    {
-      const int   own = cell->index(vertex);
-      const Label label = LabelOf(cell);
-      for (int facet = 0; facet < 4; ++facet)
-      {
-        if (facet == own)
-        {
-          continue;
-        }
-        const CellHandle neighbor = cell->neighbor(facet);
-        const Label      other = LabelOf(neighbor);
-        // Each facet is seen from both sides: once is enough.
-        if (label == other || neighbor < cell)
-        {
-          continue;
-        }
-        std::array<VertexHandle, 2> edge{};
-        int                         count = 0;
-        for (int corner = 0; corner < 4; ++corner)
-        {
-          if (corner != facet && corner != own)
-          {
-            edge[count++] = cell->vertex(corner);
-          }
-        }
-        if (label != BackgroundLabel)
-        {
-          m_Links.push_back({ label, edge });
-        }
-        if (other != BackgroundLabel)
-        {
-          m_Links.push_back({ other, edge });
-        }
-        if ((label == BackgroundLabel) != (other == BackgroundLabel))
-        {
-          m_Links.push_back({ UnionKey, edge });
-        }
-      }
-    }
-    std::sort(m_Links.begin(), m_Links.end(), [](const LinkEdge & a, const LinkEdge & b) { return a.label < b.label; });
-    int nonManifold = 0;
-    for (auto first = m_Links.begin(); first != m_Links.end();)
-    {
-      const auto last =
-        std::find_if(first, m_Links.end(), [first](const LinkEdge & edge) { return edge.label != first->label; });
-      nonManifold += IsOneCycle(first, last) ? 0 : 1;
-      first = last;
-    }
-    return nonManifold;
+    return m_Links.NonManifoldLabelsAt(m_State.GetTriangulation(), vertex, StarOf(vertex));
   }
 
   /** The vertex's incident cells. A relabelling pass changes labels only, never the triangulation, and tries many
@@ -207,53 +155,6 @@ private:
       m_State.GetTriangulation().incident_cells(vertex, std::back_inserter(entry->second));
     }
     return entry->second;
-  }
-
-  /** An edge of a label's link at a vertex. */
-  struct LinkEdge
-  {
-    Label                       label;
-    std::array<VertexHandle, 2> ends;
-  };
-
-  /** Whether the edges make one cycle: every end in exactly two of them, and a walk from the first edge comes back
-   * after visiting them all. */
-  static bool
-  IsOneCycle(std::vector<LinkEdge>::const_iterator first, std::vector<LinkEdge>::const_iterator last)
-  {
-    const auto                edges = static_cast<std::size_t>(last - first);
-    std::vector<VertexHandle> ends;
-    ends.reserve(2 * edges);
-    for (auto edge = first; edge != last; ++edge)
-    {
-      ends.push_back(edge->ends[0]);
-      ends.push_back(edge->ends[1]);
-    }
-    std::sort(ends.begin(), ends.end());
-    for (std::size_t index = 0; index < ends.size(); index += 2)
-    {
-      if (ends[index] != ends[index + 1] || (index + 2 < ends.size() && ends[index + 2] == ends[index]))
-      {
-        return false;
-      }
-    }
-    // Walk: from the first edge's second end, take the other edge at the current end, until back at the start.
-    const VertexHandle start = first->ends[0];
-    VertexHandle       current = first->ends[1];
-    auto               through = first;
-    std::size_t        walked = 1;
-    while (current != start && walked <= edges)
-    {
-      auto next = first;
-      while (next == through || (next->ends[0] != current && next->ends[1] != current))
-      {
-        ++next;
-      }
-      current = next->ends[0] == current ? next->ends[1] : next->ends[0];
-      through = next;
-      ++walked;
-    }
-    return current == start && walked == edges;
   }
 
   Label
@@ -584,7 +485,7 @@ private:
     return true;
   }
 
-  static constexpr Label UnionKey = BackgroundLabel;
+  static constexpr Label UnionKey = VertexLinks::UnionKey;
 
   MeshState &              m_State;
   const LocalSampling &    m_Sizing;
@@ -593,8 +494,7 @@ private:
   std::vector<Change>      m_Changes;
   // The stars collected in the current pass (StarOf()), keyed by the vertex's address.
   mutable std::unordered_map<const void *, std::vector<CellHandle>> m_Stars;
-  // Scratch space of NonManifoldLabelsAt(), which runs for every corner of every move tried.
-  mutable std::vector<LinkEdge> m_Links;
+  VertexLinks                                                       m_Links;
 };
 
 } // namespace detail

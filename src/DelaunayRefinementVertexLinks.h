@@ -1,0 +1,165 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef DelaunayRefinementVertexLinks_h
+#define DelaunayRefinementVertexLinks_h
+
+// The local manifold test (docs/algorithm.md, "Topology"): a label's boundary is a manifold at a vertex when the
+// vertex's link in it (the edges opposite the vertex in its boundary facets) is empty or one cycle. It depends on
+// the vertex's star only; the relabelling (TopologyRelabel) and the sliver perturbation (SliverPerturbation) ask it
+// of the vertices whose star they change.
+
+#include "DelaunayRefinementMeshState.h"
+
+#include <algorithm>
+#include <array>
+#include <vector>
+
+namespace delaunay_refinement
+{
+namespace detail
+{
+
+class VertexLinks
+{
+public:
+  /** The union of the labels other than the background is keyed by the background's label. */
+  static constexpr Label UnionKey = BackgroundLabel;
+
+  /** How many labels' boundaries (the union's, keyed by the background, included) are not a manifold at the
+   * vertex, whose incident cells are `star`: the facets of the star that separate the label from another make the
+   * label's link, which must be empty or one cycle. */
+  int
+  NonManifoldLabelsAt(const Triangulation & triangulation, VertexHandle vertex,
+                      const std::vector<CellHandle> & star) const
+  {
+    // (label, link edge): a few dozen entries, so flat and sorted rather than a map of vectors.
+    m_Links.clear();
+    for (const CellHandle cell : star)
+    {
+      const int   own = cell->index(vertex);
+      const Label label = LabelOf(triangulation, cell);
+      for (int facet = 0; facet < 4; ++facet)
+      {
+        if (facet == own)
+        {
+          continue;
+        }
+        const CellHandle neighbor = cell->neighbor(facet);
+        const Label      other = LabelOf(triangulation, neighbor);
+        // Each facet is seen from both sides: once is enough.
+        if (label == other || neighbor < cell)
+        {
+          continue;
+        }
+        std::array<VertexHandle, 2> edge{};
+        int                         count = 0;
+        for (int corner = 0; corner < 4; ++corner)
+        {
+          if (corner != facet && corner != own)
+          {
+            edge[count++] = cell->vertex(corner);
+          }
+        }
+        if (label != BackgroundLabel)
+        {
+          m_Links.push_back({ label, edge });
+        }
+        if (other != BackgroundLabel)
+        {
+          m_Links.push_back({ other, edge });
+        }
+        if ((label == BackgroundLabel) != (other == BackgroundLabel))
+        {
+          m_Links.push_back({ UnionKey, edge });
+        }
+      }
+    }
+    std::sort(m_Links.begin(), m_Links.end(), [](const LinkEdge & a, const LinkEdge & b) { return a.label < b.label; });
+    int nonManifold = 0;
+    for (auto first = m_Links.begin(); first != m_Links.end();)
+    {
+      const auto last =
+        std::find_if(first, m_Links.end(), [first](const LinkEdge & edge) { return edge.label != first->label; });
+      nonManifold += IsOneCycle(first, last) ? 0 : 1;
+      first = last;
+    }
+    return nonManifold;
+  }
+
+private:
+  /** An edge of a label's link at a vertex. */
+  struct LinkEdge
+  {
+    Label                       label;
+    std::array<VertexHandle, 2> ends;
+  };
+
+  /** Whether the edges make one cycle: every end in exactly two of them, and a walk from the first edge comes back
+   * after visiting them all. */
+  static bool
+  IsOneCycle(std::vector<LinkEdge>::const_iterator first, std::vector<LinkEdge>::const_iterator last)
+  {
+    const auto                edges = static_cast<std::size_t>(last - first);
+    std::vector<VertexHandle> ends;
+    ends.reserve(2 * edges);
+    for (auto edge = first; edge != last; ++edge)
+    {
+      ends.push_back(edge->ends[0]);
+      ends.push_back(edge->ends[1]);
+    }
+    std::sort(ends.begin(), ends.end());
+    for (std::size_t index = 0; index < ends.size(); index += 2)
+    {
+      if (ends[index] != ends[index + 1] || (index + 2 < ends.size() && ends[index + 2] == ends[index]))
+      {
+        return false;
+      }
+    }
+    // Walk: from the first edge's second end, take the other edge at the current end, until back at the start.
+    const VertexHandle start = first->ends[0];
+    VertexHandle       current = first->ends[1];
+    auto               through = first;
+    std::size_t        walked = 1;
+    while (current != start && walked <= edges)
+    {
+      auto next = first;
+      while (next == through || (next->ends[0] != current && next->ends[1] != current))
+      {
+        ++next;
+      }
+      current = next->ends[0] == current ? next->ends[1] : next->ends[0];
+      through = next;
+      ++walked;
+    }
+    return current == start && walked == edges;
+  }
+
+  static Label
+  LabelOf(const Triangulation & triangulation, CellHandle cell)
+  {
+    return triangulation.is_infinite(cell) ? BackgroundLabel : cell->cache.label;
+  }
+
+  // Scratch space of NonManifoldLabelsAt(), which runs for every corner of every move tried.
+  mutable std::vector<LinkEdge> m_Links;
+};
+
+} // namespace detail
+} // namespace delaunay_refinement
+
+#endif
