@@ -43,6 +43,9 @@ struct RefinementStatistics
   std::size_t sliverSplitsOnSurface{ 0 };
   std::size_t sliverSplitsChangingBoundary{ 0 };
   std::size_t sliverSplitsFailingAcceptance{ 0 };
+  /** Slivers, and tetrahedra flat to rounding, removed by moving one of their corners (docs/algorithm.md, "R4′
+   * moves a vertex"). */
+  std::size_t sliverPerturbations{ 0 };
   /** Slivers R4' left unsplit as caps on the background, for the flat-cap step to peel off. */
   std::size_t sliverCapsLeftToPeel{ 0 };
   std::size_t insertionsE1{ 0 };

@@ -24,6 +24,8 @@
 // - DelaunayRefinementSizing.h: the local δ;
 // - DelaunayRefinementRules.h: R1-R4 and R4';
 // - DelaunayRefinementSliverSplit.h: where R4' splits a sliver;
+// - DelaunayRefinementSliverPerturbation.h: R4' moving a vertex, for slivers and flat tetrahedra;
+// - DelaunayRefinementVertexLinks.h: the local manifold test;
 // - DelaunayRefinementBoxProtection.h: the bounding box and E1-E3;
 // - DelaunayRefinementManifoldRepair.h: local refinement where a tissue's boundary is not a manifold;
 // - DelaunayRefinementTopologyRelabel.h: tetrahedra relabelled where a boundary is not a manifold;
@@ -41,6 +43,7 @@
 #include "DelaunayRefinementQueue.h"
 #include "DelaunayRefinementRules.h"
 #include "DelaunayRefinementSizing.h"
+#include "DelaunayRefinementSliverPerturbation.h"
 #include "DelaunayRefinementSliverSplit.h"
 
 #include <algorithm>
@@ -94,7 +97,7 @@ public:
     }
     const auto refinementStart = std::chrono::steady_clock::now();
     m_BoxProtection.CreateBox(objectBounds);
-    RefineUntilNoRuleApplies();
+    RefineAndPerturbFlatTetrahedra();
     RepairTopology();
     m_Statistics.flatCapsRelabelled = FlatCaps(m_State, m_Repair, m_Parameters.minimumDihedralAngle).Relabel();
     const auto      extractionStart = std::chrono::steady_clock::now();
@@ -152,21 +155,49 @@ private:
   }
 
   /** R4': the point SliverSplit chooses, free or on the surface. A sliver for which no point passes its acceptance
-   * test and which is a cap on the background is left for FlatCaps to peel off. */
+   * test is left for FlatCaps to peel off when it is a cap on the background; otherwise one of its corners is moved
+   * (SliverPerturbation); when no move passes either, it is split at the least bad point. A tetrahedron that is
+   * only flat to rounding (its angles reach σ, or σ = 0) is never split, since a split point would come closer
+   * than δ to its corners (Lemma 2): a corner is moved, or it is left. */
   bool
   SplitSliver(CellHandle cell, const Vector3 & center)
   {
+    if (!m_DihedralBound.IsSliver(m_State.CornersOf(cell)))
+    {
+      return Perturb(cell) == SliverPerturbation::Outcome::Moved;
+    }
     const SliverSplit::Split split = m_SliverSplit.Choose(cell, center, cell->cache.squaredRadius);
     if (!split.accepted && FlatCaps::IsCapOnBackground(m_State, cell))
     {
       ++m_Statistics.sliverCapsLeftToPeel;
       return false;
     }
+    if (!split.accepted)
+    {
+      switch (Perturb(cell))
+      {
+        case SliverPerturbation::Outcome::Moved:
+          return true;
+        case SliverPerturbation::Outcome::Undone:
+          // The sliver exists again, as a new cell in the queue; when it comes back, it is split.
+          return false;
+        case SliverPerturbation::Outcome::NotTried:
+          break;
+      }
+    }
     ++m_Statistics.insertionsR4Dihedral;
     m_Statistics.sliverSplitsOnSurface += split.kind == VertexKind::Feature;
     m_Statistics.sliverSplitsChangingBoundary += split.changesBoundary;
     m_Statistics.sliverSplitsFailingAcceptance += !split.accepted;
     return m_State.InsertVertex(split.point, split.kind, cell).has_value();
+  }
+
+  SliverPerturbation::Outcome
+  Perturb(CellHandle cell)
+  {
+    const SliverPerturbation::Outcome outcome = m_SliverPerturbation.Perturb(cell);
+    m_Statistics.sliverPerturbations += outcome == SliverPerturbation::Outcome::Moved;
+    return outcome;
   }
 
   bool
@@ -205,6 +236,70 @@ private:
       }
     }
     ReportProgress(processed);
+  }
+
+  /** The refinement, then a second chance for the tetrahedra flat to rounding whose moves all failed while it ran:
+   * the acceptance test asks that no rule applies to the new tetrahedra, and during the refinement one often
+   * still applied near them, before their neighbourhood was refined (SliverPerturbation). */
+  void
+  RefineAndPerturbFlatTetrahedra()
+  {
+    RefineUntilNoRuleApplies();
+    const Triangulation &         triangulation = m_State.GetTriangulation();
+    std::vector<FlatCellVertices> flat;
+    for (auto cell = triangulation.finite_cells_begin(); cell != triangulation.finite_cells_end(); ++cell)
+    {
+      if (cell->cache.label != BackgroundLabel && IsFlatToRounding(m_State.CornersOf(cell)))
+      {
+        flat.push_back(
+          { { cell->vertex(0), cell->vertex(1), cell->vertex(2), cell->vertex(3) }, MeshState::SortedVertexIds(cell) });
+      }
+    }
+    if (flat.empty())
+    {
+      return;
+    }
+    // In a fixed order: the cells' container order can follow memory addresses after vertex removals.
+    std::sort(flat.begin(), flat.end(), [](const FlatCellVertices & a, const FlatCellVertices & b) {
+      return a.sortedIds < b.sortedIds;
+    });
+    m_SliverPerturbation.ForgetTried();
+    bool moved = false;
+    for (const FlatCellVertices & corners : flat)
+    {
+      CellHandle cell;
+      if (IsStillThere(corners, cell))
+      {
+        moved = Perturb(cell) == SliverPerturbation::Outcome::Moved || moved;
+      }
+    }
+    if (moved)
+    {
+      RefineUntilNoRuleApplies();
+    }
+  }
+
+  struct FlatCellVertices
+  {
+    std::array<VertexHandle, 4> vertices;
+    std::array<VertexId, 4>     sortedIds;
+  };
+
+  /** Whether the four vertices are still vertices and still make a cell (`cell`): a move removes a vertex, and
+   * CGAL may reuse its memory for another, which the ids tell apart. */
+  bool
+  IsStillThere(const FlatCellVertices & corners, CellHandle & cell) const
+  {
+    const Triangulation & triangulation = m_State.GetTriangulation();
+    for (const VertexHandle vertex : corners.vertices)
+    {
+      if (!triangulation.tds().vertices().is_used(vertex))
+      {
+        return false;
+      }
+    }
+    const auto & v = corners.vertices;
+    return triangulation.is_cell(v[0], v[1], v[2], v[3], cell) && MeshState::SortedVertexIds(cell) == corners.sortedIds;
   }
 
   void
@@ -251,7 +346,7 @@ private:
       }
       if (repaired)
       {
-        RefineUntilNoRuleApplies();
+        RefineAndPerturbFlatTetrahedra();
       }
       places = RelabelAndFindNonManifoldPlaces();
       if (!repaired)
@@ -350,8 +445,10 @@ private:
   BoxProtection                m_BoxProtection;
   SliverSplit                  m_SliverSplit;
   RefinementRules              m_Rules;
-  MeshExtraction               m_Extraction;
-  ManifoldRepair               m_Repair;
+  DihedralAngleBound           m_DihedralBound{ m_Parameters.minimumDihedralAngle };
+  SliverPerturbation m_SliverPerturbation{ m_Oracle, m_Parameters, m_State, m_Rules, m_Sizing, m_BoxProtection };
+  MeshExtraction     m_Extraction;
+  ManifoldRepair     m_Repair;
   TopologyRelabel m_Relabelling{ m_State, m_Sizing, m_Parameters.radiusEdgeBound, m_Parameters.minimumDihedralAngle };
   RefinementQueue m_Queue;
   double          m_ProgressFraction{ 0.0 };

@@ -201,14 +201,15 @@ private:
     return std::nullopt;
   }
 
-  /** R4' (the paper's variant, on when σ > 0): a dihedral angle below σ. Like the paper, every such sliver
-   * with its circumcentre inside is split, so the output's dihedral angles are >= σ. The paper proves nothing
-   * for R4': termination rests on the vertex cap, and its free vertices may come closer than δ to others,
-   * so the 30° bound on boundary angles (Theorem 2) is not guaranteed while σ > 0. */
+  /** R4' (the paper's variant): a dihedral angle below σ (when σ > 0), or a tetrahedron flat to rounding,
+   * whatever σ (a singular element for any solver; the refiner removes it by moving a corner, never by a split,
+   * docs/algorithm.md, "R4′ moves a vertex"). The paper proves nothing for R4': termination rests on the vertex
+   * cap, and with σ > 0 its free vertices may come closer than δ to others, so the 30° bound on boundary angles
+   * (Theorem 2) is not guaranteed then. */
   bool
   IsSliver(const std::array<Vector3, 4> & corners) const
   {
-    return m_DihedralBound.IsSliver(corners);
+    return m_DihedralBound.IsSliver(corners) || IsFlatToRounding(corners);
   }
 
   double
