@@ -307,7 +307,9 @@ struct RunResult
   bool                     timedOut{ false };
   /** Of a mesh: the smallest volume in floating point (<= 0 for a sliver flat to rounding) and dihedral angle. */
   double smallestVolume{ 0.0 };
-  double smallestDihedralAngle{ 0.0 };
+  /** Tetrahedra flat to rounding by issue #15's measure (CountFlatTetrahedra): reported, not yet asserted. */
+  std::size_t flatTetrahedra{ 0 };
+  double      smallestDihedralAngle{ 0.0 };
   /** What the refinement did, for a report. */
   std::string refinement;
   /** Components of the segmentation the filter meshed (GetObjectLabelImage(), the regularised labels) that hold a
@@ -1124,6 +1126,7 @@ CheckGuarantees(TFilter & filter, const TImage & image, const FilterSettings & s
   CheckAgainstSegmentation(filter, settings, mesh, violations, result);
   result.violations = violations.Take();
   result.smallestVolume = quality.minimumVolume;
+  result.flatTetrahedra = delaunay_image_to_mesh_test::CountFlatTetrahedra(mesh);
   result.smallestDihedralAngle = quality.minimumDihedralAngle;
 }
 

@@ -747,8 +747,10 @@ struct FamilySummary
   double                         slowestSeconds{ 0.0 };
   uint64_t                       slowestSeed{ 0 };
   std::size_t                    largestMesh{ 0 };
-  /** Meshes holding a sliver flat to rounding (floating-point volume <= 0): allowed with σ = 0, unusable in FEM. */
-  std::size_t meshesWithFlatSlivers{ 0 };
+  /** Meshes holding a tetrahedron flat to rounding (volume <= 1e-6 × shortest edge cubed), unusable in FEM: issue
+   * #15's bar, not met yet (the refiner moves a corner of each it finds, and some moves fail), so it is reported
+   * here, not asserted. */
+  std::size_t meshesWithFlatTetrahedra{ 0 };
   double      smallestDihedralAngle{ 180.0 };
   /** Of the meshes with nearest-neighbour labels: the largest distances, in δ, between boundary and voxels. */
   std::vector<double> meshToSegmentation;
@@ -787,8 +789,9 @@ PrintSummary(std::ostream & stream, const std::string & title, const FamilySumma
   stream << title << ": " << summary.cases << " cases in " << std::fixed << std::setprecision(1) << summary.seconds
          << " s (slowest " << std::setprecision(2) << summary.slowestSeconds << " s, seed " << summary.slowestSeed
          << "; largest mesh " << summary.largestMesh << " tetrahedra), " << summary.failures << " failing\n"
-         << "    meshes with a sliver flat to rounding (floating-point volume <= 0): " << summary.meshesWithFlatSlivers
-         << "; smallest dihedral angle " << std::setprecision(3) << summary.smallestDihedralAngle << " deg\n"
+         << "    meshes with a tetrahedron flat to rounding (volume <= 1e-6 x shortest edge cubed): "
+         << summary.meshesWithFlatTetrahedra << "; smallest dihedral angle " << std::setprecision(3)
+         << summary.smallestDihedralAngle << " deg\n"
          << "    largest distance in delta (median / p95 / p99 / max), boundary to voxels: "
          << DescribeDistribution(summary.meshToSegmentation)
          << "; voxels of thick components to boundary: " << DescribeDistribution(summary.segmentationToMesh) << "\n"
@@ -815,7 +818,7 @@ public:
       total.failures += summary.failures;
       total.seconds += summary.seconds;
       total.largestMesh = std::max(total.largestMesh, summary.largestMesh);
-      total.meshesWithFlatSlivers += summary.meshesWithFlatSlivers;
+      total.meshesWithFlatTetrahedra += summary.meshesWithFlatTetrahedra;
       total.smallestDihedralAngle = std::min(total.smallestDihedralAngle, summary.smallestDihedralAngle);
       if (summary.slowestSeconds > total.slowestSeconds)
       {
@@ -916,7 +919,7 @@ TEST_P(RandomizedImages, MeshMeetsEveryGuaranteeOrFailsAsDocumented)
         summary.meshToSegmentation.push_back(report.result.meshToSegmentation);
         summary.segmentationToMesh.push_back(report.result.segmentationToMesh);
       }
-      summary.meshesWithFlatSlivers += report.result.smallestVolume <= 0.0;
+      summary.meshesWithFlatTetrahedra += report.result.flatTetrahedra > 0;
       summary.smallestDihedralAngle = std::min(summary.smallestDihedralAngle, report.result.smallestDihedralAngle);
     }
     if (report.result.seconds > summary.slowestSeconds)

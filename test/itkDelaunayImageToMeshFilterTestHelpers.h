@@ -32,6 +32,9 @@
 #include "itkImageRegionIteratorWithIndex.h"
 #include "itkMesh.h"
 
+#include <cmath>
+#include <limits>
+
 #include <array>
 #include <cstdint>
 #include <fstream>
@@ -331,6 +334,47 @@ ReadInvariants(const std::string & fileName)
     }
   }
   return invariants;
+}
+
+/** Tetrahedra flat to rounding, which a solver cannot use: volume <= 1e-6 × shortest edge cubed, computed here
+ * from the coordinates alone (none of the library's metric code; issue #15's bar). */
+inline std::size_t
+CountFlatTetrahedra(const dr::TetrahedralMesh & mesh)
+{
+  std::size_t flatTetrahedra = 0;
+  for (const auto & tetrahedron : mesh.tetrahedra)
+  {
+    std::array<std::array<double, 3>, 4> corner{};
+    for (int k = 0; k < 4; ++k)
+    {
+      corner[k] = mesh.points[tetrahedron[k]];
+    }
+    double shortest = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < 4; ++a)
+    {
+      for (int b = a + 1; b < 4; ++b)
+      {
+        const double dx = corner[a][0] - corner[b][0];
+        const double dy = corner[a][1] - corner[b][1];
+        const double dz = corner[a][2] - corner[b][2];
+        shortest = std::min(shortest, std::sqrt(dx * dx + dy * dy + dz * dz));
+      }
+    }
+    std::array<std::array<double, 3>, 3> e{};
+    for (int k = 0; k < 3; ++k)
+    {
+      for (int axis = 0; axis < 3; ++axis)
+      {
+        e[k][axis] = corner[k + 1][axis] - corner[0][axis];
+      }
+    }
+    const double volume =
+      std::abs(e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) - e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) +
+               e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0])) /
+      6.0;
+    flatTetrahedra += volume <= 1e-6 * shortest * shortest * shortest;
+  }
+  return flatTetrahedra;
 }
 
 } // namespace delaunay_image_to_mesh_test
