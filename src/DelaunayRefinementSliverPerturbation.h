@@ -142,14 +142,13 @@ private:
     double  score;
   };
 
-  /** A sliver gets height when a corner moves away from the plane of its opposite facet: a free corner straight,
-   * a surface corner to the surface point closest to the shifted point (its motion along the surface); these are
-   * ordered by the sliver's smallest angle after the move, best first. A tetrahedron flat to rounding has its
-   * four corners on one circle of the surface (docs/algorithm.md, "Flat caps"), and that motion is across the
-   * surface, which projects to nothing: a corner moves in the plane instead, away from the others' centre, which
-   * breaks the co-circularity and lets the Delaunay triangulation flip the tetrahedron away; these are ordered by
-   * the length of the step, shortest first. A point that is already a vertex, outside the box, or barely moves is
-   * not a candidate. */
+  /** A sliver gets height when a corner moves away from the plane of its opposite facet (MoveCorner); these are
+   * ordered by the sliver's smallest angle after the move, best first. A tetrahedron flat to rounding has its four
+   * corners on one circle of a plane (docs/algorithm.md, "Flat caps"): a corner moves in that plane, away from the
+   * others' centre, which breaks the co-circularity and lets the Delaunay triangulation flip the tetrahedron away,
+   * or, when the plane is across the surface (the four lateral face centres of one voxel), out of the plane, which
+   * leaves a tetrahedron with volume; these are ordered by direction, then by step, shortest first. A point that
+   * is already a vertex, outside the box, or barely moves is not a candidate. */
   std::vector<Candidate>
   CandidatesFor(CellHandle sliver, const std::array<Vector3, 4> & corners) const
   {
@@ -172,45 +171,65 @@ private:
         const Vector3 facetNormal = OutwardFaceNormal(corners, corner);
         const Vector3 height = (-1.0 / Norm(facetNormal)) * facetNormal;
         const double  step = fraction * shortestEdge;
-        Vector3       direction = height;
+        // A sliver's corner gains height; a flat tetrahedron's moves in its plane, away from the others' centre,
+        // else across its plane (when that plane is across the surface: four face centres around one voxel).
+        std::vector<Vector3> directions{ height };
         if (isFlat)
         {
-          direction = corners[corner] - centroid;
+          const Vector3 outward = corners[corner] - centroid;
+          directions = { outward - Dot(outward, height) * height, height, -1.0 * height };
         }
-        std::optional<Vector3> moved;
-        if (kind == VertexKind::Free)
+        for (std::size_t index = 0; index < directions.size(); ++index)
         {
-          moved = corners[corner] + step * height;
-        }
-        else
-        {
-          // The surface's normal at the corner, from its boundary facets; then, for a flat tetrahedron, whose four
-          // corners lie on the surface, its own plane's.
-          const double bracket = std::max(step, BracketFraction * shortestEdge);
-          moved = MoveAlongSurface(corners[corner], direction, SurfaceNormalAt(sliver->vertex(corner)), step, bracket);
-          if (!moved && isFlat)
+          std::optional<Vector3> moved = MoveCorner(sliver->vertex(corner), directions[index], step, shortestEdge);
+          if (!moved && isFlat && kind == VertexKind::Feature)
           {
-            moved = MoveAlongSurface(corners[corner], direction, height, step, bracket);
+            // The boundary facets' normal can be a poor estimate at a corner of the surface. A flat tetrahedron
+            // gives two others: its plane's, when it lies in the surface, and the outward direction in its plane,
+            // when its plane is across the surface (four face centres around one voxel).
+            const double bracket = std::max(step, BracketFraction * shortestEdge);
+            moved = MoveAlongSurface(corners[corner], directions[index], height, step, bracket);
+            if (!moved)
+            {
+              const Vector3 outward = directions.front();
+              moved =
+                MoveAlongSurface(corners[corner], directions[index], (1.0 / Norm(outward)) * outward, step, bracket);
+            }
           }
+          if (!moved || !(Distance(*moved, corners[corner]) >= MinimumMoveFraction * step) ||
+              !m_Box.IsStrictlyInsideBox(*moved) || IsAVertex(*moved, sliver))
+          {
+            continue;
+          }
+          std::array<Vector3, 4> after = corners;
+          after[corner] = *moved;
+          const double score = isFlat ? static_cast<double>(index) + fraction : CosineOfSmallestDihedralAngle(after);
+          candidates.push_back({ corner, *moved, score });
         }
-        if (!moved)
-        {
-          continue;
-        }
-        const Vector3 point = *moved;
-        if (!(Distance(point, corners[corner]) >= MinimumMoveFraction * step) || !m_Box.IsStrictlyInsideBox(point) ||
-            IsAVertex(point, sliver))
-        {
-          continue;
-        }
-        std::array<Vector3, 4> after = corners;
-        after[corner] = point;
-        candidates.push_back({ corner, point, isFlat ? fraction : CosineOfSmallestDihedralAngle(after) });
       }
     }
     std::stable_sort(
       candidates.begin(), candidates.end(), [](const Candidate & a, const Candidate & b) { return a.score < b.score; });
     return candidates;
+  }
+
+  /** Where a corner lands when it moves by `step` in `direction`: a free corner straight there, a surface corner
+   * along the surface (MoveAlongSurface, with the surface's normal at it estimated from its boundary facets). */
+  std::optional<Vector3>
+  MoveCorner(VertexHandle corner, const Vector3 & direction, double step, double shortestEdge) const
+  {
+    const double length = Norm(direction);
+    if (!(length > 0.0))
+    {
+      return std::nullopt;
+    }
+    const Vector3 from = m_State.PointOf(corner);
+    if (corner->info().kind == VertexKind::Free)
+    {
+      return from + (step / length) * direction;
+    }
+    return MoveAlongSurface(
+      from, direction, SurfaceNormalAt(corner), step, std::max(step, BracketFraction * shortestEdge));
   }
 
   /** The point of the surface reached from `from` by a step of `length` along the part of `direction` tangent to
