@@ -1022,6 +1022,24 @@ TEST(RandomizedRegression, FloatingPointCircumcentresOfNearlyFlatTetrahedra)
   }
 }
 
+/** Tetrahedra flat to rounding (issue #15's bar): before R4′ moved a corner of each, these default-parameter cases had
+ * them: four co-circular voxel-face centres on a plane of the surface (Blobs 1000005, 7 flat tetrahedra), the four
+ * lateral face centres of a single voxel, whose plane crosses the surface (SingleVoxels 4000370), and a thin sheet
+ * (SheetsAndLines 3000104). Each must mesh, pass every check of the suite, and have none. */
+TEST(RandomizedRegression, FlatTetrahedraAreMovedAway)
+{
+  for (const auto & [family, seed] : { std::make_pair(Family::Blobs, uint64_t{ 1000005 }),
+                                       std::make_pair(Family::SingleVoxels, uint64_t{ 4000370 }),
+                                       std::make_pair(Family::SheetsAndLines, uint64_t{ 3000104 }) })
+  {
+    const RandomCase randomCase = MakeCase(family, seed);
+    const CaseReport report = RunCase(randomCase);
+    ASSERT_EQ(report.result.outcome, Outcome::Mesh) << Describe(randomCase) << ": " << report.result.message;
+    EXPECT_TRUE(report.problems.empty()) << Describe(randomCase) << ": " << report.problems.front();
+    EXPECT_EQ(report.result.flatTetrahedra, 0u) << Describe(randomCase);
+  }
+}
+
 // ---- Known defects, pinned: when one is fixed its test fails, and the check it is excused from gets strict -----
 
 /** A component that holds a ball of diameter δ, but not 2δ, may have no tetrahedron although the regularisation kept
