@@ -35,11 +35,11 @@ struct RefinementParameters
   /** ρ: radius-edge bound. Must be finite and >= 1. Every output tetrahedron has radius-edge ratio < ρ. */
   double radiusEdgeBound{ 2.0 };
   /** σ: minimum dihedral angle in degrees for the R4' variant; 0 (the default) disables it. Must be in [0, 30].
-   * With σ > 0 every sliver found is split at a point chosen to keep the boundary's bounds, or peeled off the
-   * background (docs/algorithm.md, "R4′ picks its point"). As in the paper, nothing is proven: termination rests on
-   * maximumNumberOfVertices, and where no split point keeps them, boundary angles may fall below 30° and free
-   * vertices reach the boundary. Measured: dihedral angles >= σ on one-label images; a few tetrahedra below σ and
-   * non-manifold places between tissues on multi-label ones. */
+   * With σ > 0 every sliver found is split at a point chosen to keep the boundary's bounds, peeled off the
+   * background, or removed by moving a corner (docs/algorithm.md, "R4′ picks its point", "R4′ moves a vertex"). As
+   * in the paper, nothing is proven: termination rests on maximumNumberOfVertices, and where none of these keeps
+   * them, boundary angles may fall below 30° and free vertices reach the boundary. Measured: dihedral angles >= σ on
+   * one-label images; a few tetrahedra below σ and non-manifold places between tissues on multi-label ones. */
   double minimumDihedralAngle{ 0.0 };
   /** Safety cap on the number of vertices of the triangulation; exceeding it throws VertexLimitExceeded. Must be
    * at least 8 (the bounding box alone has 8). */

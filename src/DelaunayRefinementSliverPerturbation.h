@@ -19,16 +19,18 @@
 #define DelaunayRefinementSliverPerturbation_h
 
 // R4′'s second way (docs/algorithm.md, "R4′ moves a vertex"): a sliver that no split point can remove without
-// breaking a bound (SliverSplit) is removed by moving one of its corners a little, a free corner through space, a
-// surface corner along the surface (the moved point is the surface point closest to the shifted one, so boundary
-// vertices stay on the surface, Lemma 5). A move is made for real and kept only when it passes the acceptance
-// test: no rule but R4′ applies to any tetrahedron it creates (so radius-edge < ρ, the δ rules and the 30° bound of
-// R3 hold there), every boundary triangle it creates has surface vertices only, no boundary becomes non-manifold at
-// a vertex it touches, and the smallest dihedral angle of the tissue tetrahedra it creates is larger than that of
-// the moved vertex's star before. Otherwise the vertex is moved back, which restores the triangulation exactly
-// (MeshState::MoveVertex). Each accepted move raises the local smallest angle, and each sliver is tried once, so
-// the process ends. This is the perturbation of CGAL's sliver perturber and of Tournois et al. (Perturbing slivers
-// in 3D Delaunay meshes, 2009), held to the refinement's own bounds instead of to the angle alone.
+// breaking a bound (SliverSplit), or a tetrahedron flat to rounding, which no split may remove, is removed by moving
+// one of its corners a little: a free corner through space, a surface corner along the surface (to where the label
+// changes along the surface's normal near the shifted point, so boundary vertices stay on the surface, Lemma 5). A
+// move is made for real and kept only when it passes the acceptance test: no rule but R4′ applies to any
+// tetrahedron it creates (so radius-edge < ρ, the δ rules and the 30° bound of R3 hold there), every boundary
+// triangle it creates has surface vertices only, no vertex it touches becomes non-manifold, the smallest dihedral
+// angle of the tissue tetrahedra it creates is larger than that of the moved vertex's star before, and, with σ = 0,
+// Lemma 2's spacing holds at the moved vertex. Otherwise the vertex is moved back, which restores the
+// triangulation exactly (MeshState::MoveVertex). Each accepted move raises the local smallest angle, and each
+// sliver is tried once per pass, so the process ends. This is the perturbation of CGAL's sliver perturber and of
+// Tournois et al. (Perturbing slivers in 3D Delaunay meshes, 2009), held to the refinement's own bounds instead of
+// to the angle alone.
 
 #include "DelaunayRefinementBoxProtection.h"
 #include "DelaunayRefinementGeometry.h"
@@ -159,8 +161,38 @@ private:
     const std::vector<double> fractions = isFlat
                                             ? std::vector<double>(FlatStepFractions.begin(), FlatStepFractions.end())
                                             : std::vector<double>(StepFractions.begin(), StepFractions.end());
+    // What each corner moves along, computed once: a sliver's corner gains height; a flat tetrahedron's moves in
+    // its plane, away from the others' centre, else across its plane (when that plane is across the surface: four
+    // face centres around one voxel). A surface corner's normal comes from its boundary facets; a flat
+    // tetrahedron gives two more where that estimate is poor at a corner of the surface: its plane's, when it lies
+    // in the surface, and the outward direction in its plane, when its plane is across it.
+    std::array<std::vector<Vector3>, 4> directions;
+    std::array<std::vector<Vector3>, 4> normals;
+    for (int corner = 0; corner < 4; ++corner)
+    {
+      const Vector3 facetNormal = OutwardFaceNormal(corners, corner);
+      const Vector3 height = (-1.0 / Norm(facetNormal)) * facetNormal;
+      directions[corner] = { height };
+      if (sliver->vertex(corner)->info().kind == VertexKind::Feature)
+      {
+        normals[corner] = { SurfaceNormalAt(sliver->vertex(corner)) };
+      }
+      if (isFlat)
+      {
+        const Vector3 outward = corners[corner] - centroid;
+        const Vector3 inPlane = outward - Dot(outward, height) * height;
+        directions[corner] = { inPlane, height, -1.0 * height };
+        if (!normals[corner].empty())
+        {
+          normals[corner].push_back(height);
+          normals[corner].push_back((1.0 / Norm(inPlane)) * inPlane);
+        }
+      }
+    }
     for (const double fraction : fractions)
     {
+      const double step = fraction * shortestEdge;
+      const double bracket = std::max(step, BracketFraction * shortestEdge);
       for (int corner = 0; corner < 4; ++corner)
       {
         const VertexKind kind = sliver->vertex(corner)->info().kind;
@@ -168,34 +200,10 @@ private:
         {
           continue;
         }
-        const Vector3 facetNormal = OutwardFaceNormal(corners, corner);
-        const Vector3 height = (-1.0 / Norm(facetNormal)) * facetNormal;
-        const double  step = fraction * shortestEdge;
-        // A sliver's corner gains height; a flat tetrahedron's moves in its plane, away from the others' centre,
-        // else across its plane (when that plane is across the surface: four face centres around one voxel).
-        std::vector<Vector3> directions{ height };
-        if (isFlat)
+        for (std::size_t index = 0; index < directions[corner].size(); ++index)
         {
-          const Vector3 outward = corners[corner] - centroid;
-          directions = { outward - Dot(outward, height) * height, height, -1.0 * height };
-        }
-        for (std::size_t index = 0; index < directions.size(); ++index)
-        {
-          std::optional<Vector3> moved = MoveCorner(sliver->vertex(corner), directions[index], step, shortestEdge);
-          if (!moved && isFlat && kind == VertexKind::Feature)
-          {
-            // The boundary facets' normal can be a poor estimate at a corner of the surface. A flat tetrahedron
-            // gives two others: its plane's, when it lies in the surface, and the outward direction in its plane,
-            // when its plane is across the surface (four face centres around one voxel).
-            const double bracket = std::max(step, BracketFraction * shortestEdge);
-            moved = MoveAlongSurface(corners[corner], directions[index], height, step, bracket);
-            if (!moved)
-            {
-              const Vector3 outward = directions.front();
-              moved =
-                MoveAlongSurface(corners[corner], directions[index], (1.0 / Norm(outward)) * outward, step, bracket);
-            }
-          }
+          const std::optional<Vector3> moved =
+            MoveCorner(corners[corner], kind, directions[corner][index], normals[corner], step, bracket);
           if (!moved || !(Distance(*moved, corners[corner]) >= MinimumMoveFraction * step) ||
               !m_Box.IsStrictlyInsideBox(*moved) || IsAVertex(*moved, sliver))
           {
@@ -213,23 +221,30 @@ private:
     return candidates;
   }
 
-  /** Where a corner lands when it moves by `step` in `direction`: a free corner straight there, a surface corner
-   * along the surface (MoveAlongSurface, with the surface's normal at it estimated from its boundary facets). */
+  /** Where a corner at `from` lands when it moves by `step` in `direction`: a free corner straight there, a surface
+   * corner along the surface (MoveAlongSurface), with the first of the estimates of the surface's normal there
+   * that finds the surface. */
   std::optional<Vector3>
-  MoveCorner(VertexHandle corner, const Vector3 & direction, double step, double shortestEdge) const
+  MoveCorner(const Vector3 & from, VertexKind kind, const Vector3 & direction, const std::vector<Vector3> & normals,
+             double step, double bracket) const
   {
     const double length = Norm(direction);
     if (!(length > 0.0))
     {
       return std::nullopt;
     }
-    const Vector3 from = m_State.PointOf(corner);
-    if (corner->info().kind == VertexKind::Free)
+    if (kind == VertexKind::Free)
     {
       return from + (step / length) * direction;
     }
-    return MoveAlongSurface(
-      from, direction, SurfaceNormalAt(corner), step, std::max(step, BracketFraction * shortestEdge));
+    for (const Vector3 & normal : normals)
+    {
+      if (const std::optional<Vector3> moved = MoveAlongSurface(from, direction, normal, step, bracket))
+      {
+        return moved;
+      }
+    }
+    return std::nullopt;
   }
 
   /** The point of the surface reached from `from` by a step of `length` along the part of `direction` tangent to
