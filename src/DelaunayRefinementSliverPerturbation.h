@@ -27,10 +27,11 @@
 // triangle it creates has surface vertices only, no vertex it touches becomes non-manifold, the smallest dihedral
 // angle of the tissue tetrahedra it creates is larger than that of the moved vertex's star before, and, with σ = 0,
 // Lemma 2's spacing holds at the moved vertex. Otherwise the vertex is moved back, which restores the
-// triangulation exactly (MeshState::MoveVertex). Each accepted move raises the local smallest angle, and each
-// sliver is tried once per pass, so the process ends. This is the perturbation of CGAL's sliver perturber and of
-// Tournois et al. (Perturbing slivers in 3D Delaunay meshes, 2009), held to the refinement's own bounds instead of
-// to the angle alone.
+// triangulation exactly (MeshState::MoveVertex). A tetrahedron flat to rounding left after the refinement may be
+// moved under a relaxed test (Acceptance), the refinement resuming after it. Each accepted move raises the local
+// smallest angle, and each sliver is tried once per pass, so the process ends. This is the perturbation of CGAL's
+// sliver perturber and of Tournois et al. (Perturbing slivers in 3D Delaunay meshes, 2009), held to the refinement's
+// own bounds instead of to the angle alone.
 
 #include "DelaunayRefinementBoxProtection.h"
 #include "DelaunayRefinementGeometry.h"
@@ -91,10 +92,29 @@ public:
     , m_KeepsLemma2(!(parameters.minimumDihedralAngle > 0.0))
   {}
 
+  /** What a move must keep besides Lemma 2's spacing (σ = 0) and a larger smallest angle, from the strictest; a
+   * tetrahedron flat to rounding whose moves all fail one level tries them again at the next, up to the level the
+   * caller allows. The later levels are for when the refinement is otherwise done: a flat tetrahedron is a
+   * singular element for any solver, worse than a tetrahedron the refinement must split or a non-manifold vertex
+   * that the topology repair, which follows, may mend. */
+  enum class Acceptance
+  {
+    /** No rule but R4′ applies to a tetrahedron the move creates, no boundary triangle it creates has a free
+     * vertex, and no vertex it touches becomes non-manifold: the move leaves nothing to refine. */
+    EveryRule,
+    /** R1–R4 may apply to the tetrahedra it creates, and a boundary triangle may have a free vertex: the refinement,
+     * resumed after the move, splits them (where ρ is near 1 almost every tetrahedron a move creates reaches ρ). */
+    RefinementMayFollow,
+    /** As RefinementMayFollow, and a vertex may become non-manifold (in sheets thinner than δ, every move of a
+     * corner may change a link). */
+    NonManifoldMayFollow
+  };
+
   /** Tries to remove the sliver `cell` by moving one of its corners (see the file's comment). Deterministic: the
-   * candidates are fixed points in a fixed order. */
+   * candidates are fixed points in a fixed order. A tetrahedron flat to rounding tries every candidate at each
+   * acceptance level up to `lastResort`. */
   Outcome
-  Perturb(CellHandle sliver)
+  Perturb(CellHandle sliver, Acceptance lastResort = Acceptance::EveryRule)
   {
     const std::array<Vector3, 4> corners = m_State.CornersOf(sliver);
     std::array<Vector3, 4>       key = corners;
@@ -109,20 +129,26 @@ public:
       return Outcome::NotTried;
     }
     std::array<VertexHandle, 4> vertices{ sliver->vertex(0), sliver->vertex(1), sliver->vertex(2), sliver->vertex(3) };
-    const std::size_t tries = IsFlatToRounding(corners) ? candidates.size() : std::min(MovesTried, candidates.size());
-    for (std::size_t index = 0; index < tries; ++index)
+    const bool                  isFlat = IsFlatToRounding(corners);
+    const std::size_t           tries = isFlat ? candidates.size() : std::min(MovesTried, candidates.size());
+    const Acceptance            lastLevel = isFlat ? lastResort : Acceptance::EveryRule;
+    for (Acceptance acceptance = Acceptance::EveryRule; acceptance <= lastLevel;
+         acceptance = static_cast<Acceptance>(static_cast<int>(acceptance) + 1))
     {
-      const Candidate & candidate = candidates[index];
-      VertexHandle &    vertex = vertices[candidate.corner];
-      const Vector3     from = m_State.PointOf(vertex);
-      const double      cosineBefore = LargestCosineAmongTissueCells(StarOf(vertex));
-      const int         nonManifoldBefore = CountNonManifoldAroundBefore(vertex);
-      vertex = m_State.MoveVertex(vertex, candidate.point, m_NewCells);
-      if (IsAccepted(vertex, cosineBefore, nonManifoldBefore))
+      for (std::size_t index = 0; index < tries; ++index)
       {
-        return Outcome::Moved;
+        const Candidate & candidate = candidates[index];
+        VertexHandle &    vertex = vertices[candidate.corner];
+        const Vector3     from = m_State.PointOf(vertex);
+        const double      cosineBefore = LargestCosineAmongTissueCells(StarOf(vertex));
+        const int         nonManifoldBefore = CountNonManifoldAroundBefore(vertex);
+        vertex = m_State.MoveVertex(vertex, candidate.point, m_NewCells);
+        if (IsAccepted(vertex, cosineBefore, nonManifoldBefore, acceptance))
+        {
+          return Outcome::Moved;
+        }
+        vertex = m_State.MoveVertex(vertex, from, m_NewCells);
       }
-      vertex = m_State.MoveVertex(vertex, from, m_NewCells);
     }
     return Outcome::Undone;
   }
@@ -305,16 +331,19 @@ private:
 
   /** The acceptance test of a move just made, whose new cells are in m_NewCells (see the file's comment). */
   bool
-  IsAccepted(VertexHandle moved, double cosineBefore, int nonManifoldBefore) const
+  IsAccepted(VertexHandle moved, double cosineBefore, int nonManifoldBefore, Acceptance acceptance) const
   {
     const Triangulation & triangulation = m_State.GetTriangulation();
     double                cosineAfter = -1.0;
     for (const CellHandle cell : m_NewCells)
     {
-      const std::optional<Action> action = m_Rules.FindApplicableRule(cell);
-      if (action && action->rule != Rule::R4Dihedral)
+      if (acceptance == Acceptance::EveryRule)
       {
-        return false;
+        const std::optional<Action> action = m_Rules.FindApplicableRule(cell);
+        if (action && action->rule != Rule::R4Dihedral)
+        {
+          return false;
+        }
       }
       if (cell->cache.label != BackgroundLabel)
       {
@@ -322,7 +351,8 @@ private:
       }
       for (int facet = 0; facet < 4; ++facet)
       {
-        if (m_State.LabelBeyondFacet(cell, facet) != cell->cache.label && HasAFreeCorner(cell, facet))
+        if (acceptance == Acceptance::EveryRule && m_State.LabelBeyondFacet(cell, facet) != cell->cache.label &&
+            HasAFreeCorner(cell, facet))
         {
           return false;
         }
@@ -335,6 +365,10 @@ private:
     if (m_KeepsLemma2 && !KeepsLemma2Spacing(moved))
     {
       return false;
+    }
+    if (acceptance == Acceptance::NonManifoldMayFollow)
+    {
+      return true;
     }
     m_Touched.clear();
     for (const CellHandle cell : m_NewCells)
