@@ -307,7 +307,7 @@ struct RunResult
   bool                     timedOut{ false };
   /** Of a mesh: the smallest volume in floating point (<= 0 for a sliver flat to rounding) and dihedral angle. */
   double smallestVolume{ 0.0 };
-  /** Tetrahedra flat to rounding by issue #15's measure (CountFlatTetrahedra): reported, not yet asserted. */
+  /** Tetrahedra flat to rounding by issue #15's measure (CountFlatTetrahedra); any is a violation. */
   std::size_t flatTetrahedra{ 0 };
   double      smallestDihedralAngle{ 0.0 };
   /** What the refinement did, for a report. */
@@ -1124,9 +1124,14 @@ CheckGuarantees(TFilter & filter, const TImage & image, const FilterSettings & s
   CheckLabels(mesh, tissues, violations);
   CheckCircumcenterLabels(image, filter, settings, tissues, mesh, violations);
   CheckAgainstSegmentation(filter, settings, mesh, violations, result);
+  // Issue #15: a tetrahedron flat to rounding is singular for every solver, whatever σ.
+  result.flatTetrahedra = delaunay_image_to_mesh_test::CountFlatTetrahedra(mesh);
+  if (result.flatTetrahedra > 0)
+  {
+    violations.Add(result.flatTetrahedra, " tetrahedra flat to rounding (volume <= 1e-6 x shortest edge cubed)");
+  }
   result.violations = violations.Take();
   result.smallestVolume = quality.minimumVolume;
-  result.flatTetrahedra = delaunay_image_to_mesh_test::CountFlatTetrahedra(mesh);
   result.smallestDihedralAngle = quality.minimumDihedralAngle;
 }
 
