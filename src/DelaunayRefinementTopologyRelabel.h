@@ -69,6 +69,7 @@ public:
   {
     const std::size_t changesBefore = m_Changes.size();
     m_Stars.clear();
+    m_Counts.clear();
     std::vector<VertexHandle> candidates;
     std::copy_if(nonManifoldVertices.begin(),
                  nonManifoldVertices.end(),
@@ -79,7 +80,7 @@ public:
       std::vector<VertexHandle> touched;
       for (const VertexHandle vertex : candidates)
       {
-        if (NonManifoldLabelsAt(vertex) > 0)
+        if (CurrentNonManifoldLabelsAt(vertex) > 0)
         {
           RelabelBestAround(vertex, touched);
         }
@@ -90,25 +91,61 @@ public:
       candidates.clear();
       for (const VertexHandle vertex : touched)
       {
-        if (vertex->info().kind == VertexKind::Feature && NonManifoldLabelsAt(vertex) > 0)
+        if (vertex->info().kind == VertexKind::Feature && CurrentNonManifoldLabelsAt(vertex) > 0)
         {
           candidates.push_back(vertex);
         }
       }
     }
-    // A tetrahedron moved back to its own label by a later move is not relabelled.
-    for (const Change & change : m_Changes)
-    {
-      if (change.cell->cache.label == change.originalLabel)
-      {
-        change.cell->cache.relabelledForTopology = false;
-      }
-    }
+    UnmarkCellsBackToTheirLabel();
     m_Stars.clear();
+    m_Counts.clear();
     return m_Changes.size() - changesBefore;
   }
 
-  /** Gives every relabelled tetrahedron that still exists its label back (the oracle's at its circumcentre). */
+  /** Applies again, in their order, the moves undone by Revert() whose tetrahedra and face neighbours are all as
+   * they were when the move was made (same cells, same labels before it, same neighbours with the same labels
+   * after it): their new boundary facets, shapes and isolation are then what was checked, without the link tests
+   * that make the relabelling's cost. The refinement between a Revert() and a Replay() changes the mesh near the
+   * regularised places only, so most moves come back and Relabel() works on what is left. Returns how many
+   * tetrahedra it relabelled. */
+  std::size_t
+  Replay()
+  {
+    const std::size_t         changesBefore = m_Changes.size();
+    std::vector<MoveMade>     made;
+    std::vector<VertexHandle> touched;
+    std::swap(made, m_MovesMade);
+    for (const MoveMade & move : made)
+    {
+      const bool cellsAsBefore = std::all_of(move.cells.begin(), move.cells.end(), [this](const CellState & state) {
+        return m_State.IsCurrent(state.cell, state.stamp) && state.cell->cache.label == state.label;
+      });
+      if (!cellsAsBefore)
+      {
+        continue;
+      }
+      for (const CellState & state : move.cells)
+      {
+        state.cell->cache.label = move.label;
+      }
+      const bool neighborsAsAfter = NeighborsAsAfter(move);
+      for (const CellState & state : move.cells)
+      {
+        state.cell->cache.label = state.label;
+      }
+      if (neighborsAsAfter)
+      {
+        Apply(move.cells, move.label, touched);
+        m_MovesMade.push_back(move);
+      }
+    }
+    UnmarkCellsBackToTheirLabel();
+    return m_Changes.size() - changesBefore;
+  }
+
+  /** Gives every relabelled tetrahedron that still exists its label back (the oracle's at its circumcentre); the
+   * moves are remembered for Replay(). */
   void
   Revert()
   {
@@ -131,6 +168,81 @@ private:
     Label      originalLabel;
   };
 
+  /** A cell as it was: its handle, its cache's stamp, and a label. */
+  struct CellState
+  {
+    CellHandle cell;
+    uint64_t   stamp;
+    Label      label;
+  };
+
+  /** A move made: its cells with their labels before it, its label, and the face neighbours of its cells with
+   * their labels just after it (the move's own cells included, with the move's label). */
+  struct MoveMade
+  {
+    std::vector<CellState> cells;
+    Label                  label;
+    std::vector<CellState> neighbors;
+  };
+
+  /** Whether each face neighbour of the move's cells is the cell it was, with the label it had, just after the move
+   * (the move being applied now). */
+  bool
+  NeighborsAsAfter(const MoveMade & move) const
+  {
+    const Triangulation & triangulation = m_State.GetTriangulation();
+    std::size_t           next = 0;
+    for (const CellState & state : move.cells)
+    {
+      for (int facet = 0; facet < 4; ++facet, ++next)
+      {
+        const CellHandle  neighbor = state.cell->neighbor(facet);
+        const CellState & then = move.neighbors[next];
+        if (neighbor != then.cell || LabelOf(neighbor) != then.label ||
+            (!triangulation.is_infinite(neighbor) && neighbor->cache.stamp != then.stamp))
+        {
+          return false;
+        }
+      }
+    }
+    return true;
+  }
+
+  /** The cells take `label`; each is marked and its original label kept for Revert(); their corners go to
+   * `touched`. */
+  void
+  Apply(const std::vector<CellState> & cells, Label label, std::vector<VertexHandle> & touched)
+  {
+    for (const CellState & state : cells)
+    {
+      const CellHandle cell = state.cell;
+      if (!cell->cache.relabelledForTopology)
+      {
+        m_Changes.push_back({ cell, cell->cache.stamp, cell->cache.label });
+        cell->cache.relabelledForTopology = true;
+      }
+      cell->cache.label = label;
+      for (int corner = 0; corner < 4; ++corner)
+      {
+        touched.push_back(cell->vertex(corner));
+        m_Counts.erase(&*cell->vertex(corner));
+      }
+    }
+  }
+
+  /** A tetrahedron moved back to its own label by a later move is not relabelled. */
+  void
+  UnmarkCellsBackToTheirLabel()
+  {
+    for (const Change & change : m_Changes)
+    {
+      if (change.cell->cache.label == change.originalLabel)
+      {
+        change.cell->cache.relabelledForTopology = false;
+      }
+    }
+  }
+
   static bool
   ById(VertexHandle a, VertexHandle b)
   {
@@ -142,6 +254,20 @@ private:
   NonManifoldLabelsAt(VertexHandle vertex) const
   {
     return m_Links.NonManifoldLabelsAt(m_State.GetTriangulation(), vertex, StarOf(vertex));
+  }
+
+  /** The same with the labels as they are (no move being tried), remembered: it depends on the labels of the
+   * vertex's star only, so it stays true until a move relabels a cell of that star (RelabelBestAround forgets the
+   * corners of the cells it relabels). */
+  int
+  CurrentNonManifoldLabelsAt(VertexHandle vertex) const
+  {
+    const auto [entry, isNew] = m_Counts.try_emplace(&*vertex, 0);
+    if (isNew)
+    {
+      entry->second = NonManifoldLabelsAt(vertex);
+    }
+    return entry->second;
   }
 
   /** The vertex's incident cells. A relabelling pass changes labels only, never the triangulation, and tries many
@@ -220,11 +346,12 @@ private:
     return true;
   }
 
-  /** How many non-manifold (vertex, label) pairs the move removes; below 1 when it is not allowed. The move is
-   * undone before returning. `countsBefore` keeps the counts of the unchanged mesh between the moves tried at one
-   * vertex. */
+  /** How many non-manifold (vertex, label) pairs the move removes; below 1 when it is not allowed, and below
+   * `needed` when it removes fewer than that (the count is then not finished: the caller rejects the move either
+   * way, and the corners' link tests are most of the relabelling's time). The move is undone before returning.
+   */
   int
-  GainOf(const Move & move, std::map<VertexHandle, int> & countsBefore) const
+  GainOf(const Move & move, int needed) const
   {
     std::vector<VertexHandle> corners;
     for (const CellHandle cell : move.cells)
@@ -239,9 +366,15 @@ private:
     int before = 0;
     for (const VertexHandle corner : corners)
     {
-      const auto known = countsBefore.find(corner);
-      before += known != countsBefore.end() ? known->second : (countsBefore[corner] = NonManifoldLabelsAt(corner));
+      before += CurrentNonManifoldLabelsAt(corner);
     }
+    if (before < needed)
+    {
+      return before;
+    }
+    // The corners non-manifold now first: a move that does not mend them is rejected after the fewest link tests.
+    std::stable_partition(
+      corners.begin(), corners.end(), [this](VertexHandle corner) { return CurrentNonManifoldLabelsAt(corner) > 0; });
     // The cells whose face neighbours change: the move's and their neighbours.
     std::vector<CellHandle> near = move.cells;
     for (const CellHandle cell : move.cells)
@@ -265,9 +398,9 @@ private:
         NewBoundaryFacetsAreGood(move, oldLabels))
     {
       int after = 0;
-      for (const VertexHandle corner : corners)
+      for (auto corner = corners.begin(); corner != corners.end() && before - after >= needed; ++corner)
       {
-        after += NonManifoldLabelsAt(corner);
+        after += NonManifoldLabelsAt(*corner);
       }
       gain = before - after;
     }
@@ -452,13 +585,14 @@ private:
       }
       return MeshState::SortedVertexIds(a) < MeshState::SortedVertexIds(b);
     });
-    const std::vector<Move>     moves = MovesAround(vertex, star);
-    std::map<VertexHandle, int> countsBefore;
-    int                         bestGain = 0;
-    const Move *                best = nullptr;
+    const std::vector<Move> moves = MovesAround(vertex, star);
+    int                     bestGain = 0;
+    const Move *            best = nullptr;
     for (const Move & move : moves)
     {
-      const int gain = GainOf(move, countsBefore);
+      // The gain that makes this move the best so far.
+      const int needed = best && move.cells.size() < best->cells.size() ? std::max(bestGain, 1) : bestGain + 1;
+      const int gain = GainOf(move, needed);
       if (gain > bestGain || (gain > 0 && gain == bestGain && move.cells.size() < best->cells.size()))
       {
         bestGain = gain;
@@ -469,19 +603,21 @@ private:
     {
       return false;
     }
+    MoveMade made{ {}, best->label, {} };
     for (const CellHandle cell : best->cells)
     {
-      if (!cell->cache.relabelledForTopology)
+      made.cells.push_back({ cell, cell->cache.stamp, cell->cache.label });
+    }
+    Apply(made.cells, best->label, touched);
+    for (const CellState & state : made.cells)
+    {
+      for (int facet = 0; facet < 4; ++facet)
       {
-        m_Changes.push_back({ cell, cell->cache.stamp, cell->cache.label });
-        cell->cache.relabelledForTopology = true;
-      }
-      cell->cache.label = best->label;
-      for (int corner = 0; corner < 4; ++corner)
-      {
-        touched.push_back(cell->vertex(corner));
+        const CellHandle neighbor = state.cell->neighbor(facet);
+        made.neighbors.push_back({ neighbor, neighbor->cache.stamp, LabelOf(neighbor) });
       }
     }
+    m_MovesMade.push_back(std::move(made));
     return true;
   }
 
@@ -492,9 +628,13 @@ private:
   const double             m_RadiusEdgeBound;
   const DihedralAngleBound m_DihedralBound;
   std::vector<Change>      m_Changes;
+  // The moves made since the relabelling began, in order, for Replay().
+  std::vector<MoveMade> m_MovesMade;
   // The stars collected in the current pass (StarOf()), keyed by the vertex's address.
   mutable std::unordered_map<const void *, std::vector<CellHandle>> m_Stars;
-  VertexLinks                                                       m_Links;
+  // The vertices' counts of non-manifold labels with the current labels (CurrentNonManifoldLabelsAt()).
+  mutable std::unordered_map<const void *, int> m_Counts;
+  VertexLinks                                   m_Links;
 };
 
 } // namespace detail

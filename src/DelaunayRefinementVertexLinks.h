@@ -111,12 +111,12 @@ private:
 
   /** Whether the edges make one cycle: every end in exactly two of them, and a walk from the first edge comes back
    * after visiting them all. */
-  static bool
-  IsOneCycle(std::vector<LinkEdge>::const_iterator first, std::vector<LinkEdge>::const_iterator last)
+  bool
+  IsOneCycle(std::vector<LinkEdge>::const_iterator first, std::vector<LinkEdge>::const_iterator last) const
   {
-    const auto                edges = static_cast<std::size_t>(last - first);
-    std::vector<VertexHandle> ends;
-    ends.reserve(2 * edges);
+    const auto                  edges = static_cast<std::size_t>(last - first);
+    std::vector<VertexHandle> & ends = m_Ends;
+    ends.clear();
     for (auto edge = first; edge != last; ++edge)
     {
       ends.push_back(edge->ends[0]);
@@ -156,7 +156,8 @@ private:
   }
 
   // Scratch space of NonManifoldLabelsAt(), which runs for every corner of every move tried.
-  mutable std::vector<LinkEdge> m_Links;
+  mutable std::vector<LinkEdge>     m_Links;
+  mutable std::vector<VertexHandle> m_Ends;
 };
 
 } // namespace detail
