@@ -371,10 +371,15 @@ private:
     m_Statistics.remainingNonManifoldVertices = places.places.size();
   }
 
-  /** The places found, relabelled where that mends them, and found again when a move was made. */
+  /** The places found, relabelled where that mends them, and found again when a move was made. The moves of the
+   * rounds before that the refinement left untouched are made again first. */
   NonManifoldPlaces
   RelabelAndFindNonManifoldPlaces()
   {
+    if (m_Parameters.relabelNonManifoldPlaces)
+    {
+      m_Relabelling.Replay();
+    }
     NonManifoldPlaces places = m_Repair.FindNonManifoldPlaces();
     if (m_Parameters.relabelNonManifoldPlaces && !places.vertices.empty() && m_Relabelling.Relabel(places.vertices) > 0)
     {
