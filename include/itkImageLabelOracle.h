@@ -179,15 +179,21 @@ private:
   BuildLabelImage(const InputImageType * image);
   void
   BuildNearestInterfaceMap();
+  /** The same after labels changed near the given z-slices only (RegularizeAround; each slice within a voxel of a
+   * changed voxel, in increasing order): the passes along x and y stay within a slice, so only those slices' are
+   * redone, from m_NearestInterfaceInSlices, and the pass along z everywhere. The result is the full build's, bit
+   * for bit. */
+  void
+  UpdateNearestInterfaceMap(const std::vector<SizeValueType> & slices);
   /** Changes the labels in one ball (RegularizeAround); returns how many voxels changed. */
   SizeValueType
   RegularizeBall(const delaunay_refinement::NonManifoldPlace & place, double radius);
   void
   CountObjectVoxels();
   void
-  MarkInterfaceVoxels();
+  MarkInterfaceVoxels(SizeValueType firstSlice, SizeValueType endSlice);
   void
-  PropagateNearestInterfaceAlong(unsigned int axis);
+  PropagateNearestInterfaceAlong(unsigned int axis, SizeValueType firstLine, SizeValueType endLine);
   double
   SquaredDistanceAlongLowerAxes(const SizeValueType * coordinates, SizeValueType lowerOffset, unsigned int axis) const;
   LabelType
@@ -228,6 +234,9 @@ private:
   typename LabelImageType::Pointer m_SelectedLabelImage;
   /** For each voxel of m_LabelImage (by buffer offset), the buffer offset of the nearest interface voxel. */
   std::vector<uint32_t> m_NearestInterfaceVoxel;
+  // The nearest interface voxels after the passes along x and y only (each z-slice's own), kept when the labels
+  // may be regularised later (UpdateNearestInterfaceMap).
+  std::vector<uint32_t> m_NearestInterfaceInSlices;
   /** Buffer offset steps of m_LabelImage along each axis. */
   std::array<SizeValueType, 3>                   m_BufferStrides{};
   delaunay_refinement::AxisAlignedBox            m_ObjectBounds;

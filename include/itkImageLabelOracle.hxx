@@ -193,16 +193,17 @@ ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
 }
 
 /** Voxels with a face neighbour of another label, the voxels the surface passes next to, are their own nearest
- * interface voxel. */
+ * interface voxel; in the z-slices [firstSlice, endSlice), whose face neighbours in the slices beside count too. */
 template <typename TInputImage>
 void
-ImageLabelOracle<TInputImage>::MarkInterfaceVoxels()
+ImageLabelOracle<TInputImage>::MarkInterfaceVoxels(SizeValueType firstSlice, SizeValueType endSlice)
 {
   const auto &        size = m_LabelImage->GetBufferedRegion().GetSize();
   const LabelType *   labels = m_LabelImage->GetBufferPointer();
   const SizeValueType strides[3] = { 1, size[0], size[0] * size[1] };
-  SizeValueType       offset = 0;
-  for (SizeValueType k = 0; k < size[2]; ++k)
+  const SizeValueType beforeFirst = firstSlice > 0 ? firstSlice - 1 : 0;
+  SizeValueType       offset = beforeFirst * strides[2];
+  for (SizeValueType k = beforeFirst; k < endSlice; ++k)
   {
     for (SizeValueType j = 0; j < size[1]; ++j)
     {
@@ -214,8 +215,14 @@ ImageLabelOracle<TInputImage>::MarkInterfaceVoxels()
           const SizeValueType next = offset + strides[axis];
           if (coordinates[axis] + 1 < size[axis] && labels[offset] != labels[next])
           {
-            m_NearestInterfaceVoxel[offset] = static_cast<uint32_t>(offset);
-            m_NearestInterfaceVoxel[next] = static_cast<uint32_t>(next);
+            if (k >= firstSlice)
+            {
+              m_NearestInterfaceVoxel[offset] = static_cast<uint32_t>(offset);
+            }
+            if ((axis == 2 ? k + 1 : k) >= firstSlice && (axis == 2 ? k + 1 : k) < endSlice)
+            {
+              m_NearestInterfaceVoxel[next] = static_cast<uint32_t>(next);
+            }
           }
         }
       }
@@ -253,7 +260,8 @@ ImageLabelOracle<TInputImage>::SquaredDistanceAlongLowerAxes(const SizeValueType
  * along the lower axes only, so a voxel and its interface voxel differ along the lower axes only. */
 template <typename TInputImage>
 void
-ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlong(unsigned int axis)
+ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlong(unsigned int axis, SizeValueType firstLine,
+                                                              SizeValueType endLine)
 {
   constexpr uint32_t  none = std::numeric_limits<uint32_t>::max();
   constexpr double    infinity = std::numeric_limits<double>::infinity();
@@ -274,8 +282,9 @@ ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlong(unsigned int axis)
     const double qPosition = static_cast<double>(q) * step;
     return (height[q] + qPosition * qPosition - height[p] - pPosition * pPosition) / (2.0 * (qPosition - pPosition));
   };
+  // A block is a line along `axis` for axis 0, a z-slice for axis 1, the whole image for axis 2.
   const SizeValueType blocks = m_NearestInterfaceVoxel.size() / (stride * length);
-  for (SizeValueType block = 0; block < blocks; ++block)
+  for (SizeValueType block = firstLine; block < std::min(endLine, blocks); ++block)
   {
     for (SizeValueType lowerOffset = 0; lowerOffset < stride; ++lowerOffset)
     {
@@ -329,12 +338,40 @@ ImageLabelOracle<TInputImage>::BuildNearestInterfaceMap()
     itkGenericExceptionMacro(<< "ImageLabelOracle: the padded image has " << numberOfVoxels
                              << " voxels; at most 4294967294 are supported.");
   }
+  const auto & size = m_LabelImage->GetBufferedRegion().GetSize();
   m_NearestInterfaceVoxel.assign(numberOfVoxels, std::numeric_limits<uint32_t>::max());
-  MarkInterfaceVoxels();
-  for (unsigned int axis = 0; axis < 3; ++axis)
+  MarkInterfaceVoxels(0, size[2]);
+  PropagateNearestInterfaceAlong(0, 0, size[1] * size[2]);
+  PropagateNearestInterfaceAlong(1, 0, size[2]);
+  if (m_LabelsAreVoxelwise)
   {
-    PropagateNearestInterfaceAlong(axis);
+    m_NearestInterfaceInSlices = m_NearestInterfaceVoxel;
   }
+  PropagateNearestInterfaceAlong(2, 0, 1);
+}
+
+template <typename TInputImage>
+void
+ImageLabelOracle<TInputImage>::UpdateNearestInterfaceMap(const std::vector<SizeValueType> & slices)
+{
+  const auto &        size = m_LabelImage->GetBufferedRegion().GetSize();
+  const SizeValueType sliceSize = size[0] * size[1];
+  m_NearestInterfaceVoxel = m_NearestInterfaceInSlices;
+  for (const SizeValueType slice : slices)
+  {
+    const auto first = static_cast<std::ptrdiff_t>(slice * sliceSize);
+    const auto end = static_cast<std::ptrdiff_t>((slice + 1) * sliceSize);
+    std::fill(m_NearestInterfaceVoxel.begin() + first,
+              m_NearestInterfaceVoxel.begin() + end,
+              std::numeric_limits<uint32_t>::max());
+    MarkInterfaceVoxels(slice, slice + 1);
+    PropagateNearestInterfaceAlong(0, slice * size[1], (slice + 1) * size[1]);
+    PropagateNearestInterfaceAlong(1, slice, slice + 1);
+    std::copy(m_NearestInterfaceVoxel.begin() + first,
+              m_NearestInterfaceVoxel.begin() + end,
+              m_NearestInterfaceInSlices.begin() + first);
+  }
+  PropagateNearestInterfaceAlong(2, 0, 1);
 }
 
 template <typename TInputImage>

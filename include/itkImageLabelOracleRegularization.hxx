@@ -158,7 +158,25 @@ ImageLabelOracle<TInputImage>::RegularizeAround(const std::vector<delaunay_refin
     return {};
   }
   m_NumberOfLocallyRegularizedVoxels += changed;
-  BuildNearestInterfaceMap();
+  // Only the z-slices within a voxel of a changed voxel have other interface voxels.
+  const LabelType *          after = m_LabelImage->GetBufferPointer();
+  const SizeValueType        sliceSize = size[0] * size[1];
+  std::vector<SizeValueType> slices;
+  for (SizeValueType offset = 0; offset < numberOfVoxels; ++offset)
+  {
+    if (after[offset] != before[offset])
+    {
+      const SizeValueType slice = offset / sliceSize;
+      for (SizeValueType near = slice > 0 ? slice - 1 : 0; near <= std::min(slice + 1, size[2] - 1); ++near)
+      {
+        if (slices.empty() || slices.back() < near)
+        {
+          slices.push_back(near);
+        }
+      }
+    }
+  }
+  UpdateNearestInterfaceMap(slices);
   // A changed voxel's cube reaches half a diagonal past its centre: the balls grow by a voxel's diagonal to hold
   // every voxel they changed, and every voxel the pinch removal changed (near the balls, or a chain of changes
   // away from them) gets a ball of its own, so that every cell whose label may have changed is looked at again.
