@@ -114,27 +114,14 @@ public:
   {
     const std::size_t         changesBefore = m_Changes.size();
     std::vector<MoveMade>     made;
-    std::vector<VertexHandle> touched;
+    std::vector<VertexHandle> touched; // unused: Relabel() starts from the places found after the replay
     std::swap(made, m_MovesMade);
     for (const MoveMade & move : made)
     {
       const bool cellsAsBefore = std::all_of(move.cells.begin(), move.cells.end(), [this](const CellState & state) {
         return m_State.IsCurrent(state.cell, state.stamp) && state.cell->cache.label == state.label;
       });
-      if (!cellsAsBefore)
-      {
-        continue;
-      }
-      for (const CellState & state : move.cells)
-      {
-        state.cell->cache.label = move.label;
-      }
-      const bool neighborsAsAfter = NeighborsAsAfter(move);
-      for (const CellState & state : move.cells)
-      {
-        state.cell->cache.label = state.label;
-      }
-      if (neighborsAsAfter)
+      if (cellsAsBefore && NeighborsAsAfter(move))
       {
         Apply(move.cells, move.label, touched);
         m_MovesMade.push_back(move);
@@ -186,7 +173,7 @@ private:
   };
 
   /** Whether each face neighbour of the move's cells is the cell it was, with the label it had, just after the move
-   * (the move being applied now). */
+   * (the move's own cells counting with the move's label). */
   bool
   NeighborsAsAfter(const MoveMade & move) const
   {
@@ -198,7 +185,9 @@ private:
       {
         const CellHandle  neighbor = state.cell->neighbor(facet);
         const CellState & then = move.neighbors[next];
-        if (neighbor != then.cell || LabelOf(neighbor) != then.label ||
+        const bool        inMove = std::any_of(
+          move.cells.begin(), move.cells.end(), [neighbor](const CellState & cell) { return cell.cell == neighbor; });
+        if (neighbor != then.cell || (inMove ? move.label : LabelOf(neighbor)) != then.label ||
             (!triangulation.is_infinite(neighbor) && neighbor->cache.stamp != then.stamp))
         {
           return false;
