@@ -219,7 +219,8 @@ ImageLabelOracle<TInputImage>::MarkInterfaceVoxels(SizeValueType firstSlice, Siz
             {
               m_NearestInterfaceVoxel[offset] = static_cast<uint32_t>(offset);
             }
-            if ((axis == 2 ? k + 1 : k) >= firstSlice && (axis == 2 ? k + 1 : k) < endSlice)
+            const SizeValueType nextSlice = axis == 2 ? k + 1 : k;
+            if (nextSlice >= firstSlice && nextSlice < endSlice)
             {
               m_NearestInterfaceVoxel[next] = static_cast<uint32_t>(next);
             }
