@@ -905,9 +905,10 @@ private:
 
   /** Every voxel of the grid that its opening removed takes the label of the nearest voxel of the grid that
    * survived its own label's opening; it keeps its label when nothing survived. Returns the voxels whose label
-   * changes. Few removed voxels search the voxels around them, nearest first (a survivor is usually a few voxels
-   * away); many, or those with no survivor near, take a distance transform over a box around them. Either way the
-   * survivor is a nearest one; between survivors at exactly the same distance the choice is deterministic. */
+   * changes. The removed voxels search the voxels around them, nearest first (a survivor is usually a few voxels
+   * away); those with no survivor near, and all those left when the searches grow costly, take a distance transform
+   * over a box around them. Either way the survivor is a nearest one; between survivors at exactly the same distance
+   * the choice is deterministic. */
   std::vector<std::pair<std::size_t, Label>>
   GiveRemovedVoxelsTheNearestSurvivorsLabel(const std::vector<bool> &        removed,
                                             const std::vector<std::size_t> & removedVoxels) const
@@ -926,34 +927,55 @@ private:
       }
     };
     std::vector<std::size_t> farFromSurvivors;
-    if (removedVoxels.size() * nearestFirst.size() > 4 * BoxAround(removedVoxels, searchRadius).NumberOfVoxels())
+    // The search costs the offsets it tries. Once they outnumber SearchTriesPerBoxVoxel per voxel of the removed
+    // voxels' box, the voxels not searched yet take the transform: searching stays cheap where survivors are near
+    // (the usual case: the atlas phantom at 4 mm, 14,222 voxels in 0.5 ms against 33 ms for the transform), and
+    // costs a fraction of the transform where they are not (a thick layer removed whole).
+    const std::size_t budget = SearchTriesPerBoxVoxel * BoxAround(removedVoxels, searchRadius).NumberOfVoxels();
+    std::size_t       tries = 0;
+    // The distance from the previous voxel to its nearest survivor (more than the search radius when none was
+    // found): a survivor nearer than that less h to this voxel, its neighbour along x, would be nearer to it.
+    std::size_t previousVoxel = NoSite;
+    double      previousDistance = 0.0;
+    for (std::size_t index = 0; index < removedVoxels.size(); ++index)
     {
-      farFromSurvivors = removedVoxels;
-    }
-    else
-    {
-      std::size_t visited = 0;
-      for (const std::size_t voxel : removedVoxels)
+      if ((index & 0xffff) == 0xffff)
       {
-        if ((++visited & 0xffff) == 0)
-        {
-          Checkpoint();
-        }
-        const std::array<long, 3> at = CoordinatesOf(voxel);
-        const auto                nearest =
-          std::find_if(nearestFirst.begin(), nearestFirst.end(), [&](const NeighbourOffset & candidate) {
-            const long i = at[0] + candidate.delta[0];
-            const long j = at[1] + candidate.delta[1];
-            const long k = at[2] + candidate.delta[2];
-            return IsInGrid(i, j, k) && !removed[GridOffset(i, j, k)];
-          });
-        if (nearest == nearestFirst.end())
-        {
-          farFromSurvivors.push_back(voxel);
-          continue;
-        }
-        takeLabelOf(voxel, GridOffset(at[0] + nearest->delta[0], at[1] + nearest->delta[1], at[2] + nearest->delta[2]));
+        Checkpoint();
       }
+      if (tries > budget)
+      {
+        farFromSurvivors.insert(farFromSurvivors.end(), removedVoxels.begin() + index, removedVoxels.end());
+        break;
+      }
+      const std::size_t         voxel = removedVoxels[index];
+      const std::array<long, 3> at = CoordinatesOf(voxel);
+      auto                      first = nearestFirst.begin();
+      if (voxel == previousVoxel + 1 && at[0] > 0 && previousDistance > m_Spacing[0])
+      {
+        // Slightly below the bound, so that rounding never skips an offset as long as the nearest.
+        const double skippedBelow =
+          (1.0 - 1e-9) * (previousDistance - m_Spacing[0]) * (previousDistance - m_Spacing[0]);
+        first = std::partition_point(first, nearestFirst.end(), [skippedBelow](const NeighbourOffset & offset) {
+          return offset.squaredLength < skippedBelow;
+        });
+      }
+      const auto nearest = std::find_if(first, nearestFirst.end(), [&](const NeighbourOffset & candidate) {
+        ++tries;
+        const long i = at[0] + candidate.delta[0];
+        const long j = at[1] + candidate.delta[1];
+        const long k = at[2] + candidate.delta[2];
+        return IsInGrid(i, j, k) && !removed[GridOffset(i, j, k)];
+      });
+      previousVoxel = voxel;
+      if (nearest == nearestFirst.end())
+      {
+        previousDistance = searchRadius;
+        farFromSurvivors.push_back(voxel);
+        continue;
+      }
+      previousDistance = std::sqrt(nearest->squaredLength);
+      takeLabelOf(voxel, GridOffset(at[0] + nearest->delta[0], at[1] + nearest->delta[1], at[2] + nearest->delta[2]));
     }
     if (farFromSurvivors.empty())
     {
@@ -1065,6 +1087,11 @@ private:
     }
     return true;
   }
+
+  /** How many offsets the searches for the nearest survivor may try per voxel of the removed voxels' box before
+   * the transform takes over. A try costs about a twentieth of a voxel's three transform passes (measured: 4 ns
+   * against 75 ns), so searches that end in the transform cost it a fifth more at most. */
+  static constexpr std::size_t SearchTriesPerBoxVoxel = 4;
 
   Label *                       m_Labels;
   const std::function<bool()> & m_KeepGoing;
