@@ -22,6 +22,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -88,6 +89,13 @@ Distance(const Vector3 & a, const Vector3 & b)
 {
   return Norm(a - b);
 }
+
+/** A voxel whose label changed: its offset in a dense grid and the label it had before. */
+struct VoxelChange
+{
+  std::size_t offset{ 0 };
+  Label       before{ 0 };
+};
 
 /** An axis-aligned box in physical space. */
 struct AxisAlignedBox

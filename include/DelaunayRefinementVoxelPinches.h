@@ -48,11 +48,18 @@ namespace delaunay_refinement
  * `labels` is a dense grid, voxel (i, j, k) at labels[i + size[0] * (j + size[1] * k)]; only blocks with all eight
  * voxels inside it are looked at, and voxels on its border never change, so it should have a background border (the
  * image oracle's label image has one). When no change unpinches the label in the block at once, the block is looked
- * at again after the change. Returns the number of voxels whose label differs at the end; `changedVoxels`, when
- * given, receives their offsets in increasing order. */
+ * at again after the change. Returns the number of voxels whose label differs at the end; `changes`, when given,
+ * receives them in increasing order of offset, each with the label it had before. */
 DelaunayImageToMesh_EXPORT std::size_t
                            RemoveVoxelPinches(Label * labels, const std::array<std::size_t, 3> & size,
-                                              std::vector<std::size_t> * changedVoxels = nullptr);
+                                              std::vector<VoxelChange> * changes = nullptr);
+
+/** The same after the voxels at `changedVoxels` (offsets) changed in labels that had no pinch the removal could
+ * mend: only the blocks holding them, and those its changes reach, are looked at, so that the cost follows the
+ * change, not the grid. The ranks come from the whole grid, as above. */
+DelaunayImageToMesh_EXPORT std::size_t
+                           RemoveVoxelPinchesAround(Label * labels, const std::array<std::size_t, 3> & size,
+                                                    const std::vector<std::size_t> & changedVoxels, std::vector<VoxelChange> * changes = nullptr);
 
 } // namespace delaunay_refinement
 

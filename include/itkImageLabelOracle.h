@@ -112,8 +112,8 @@ public:
   /** With voxelwise labels: in the ball around each place (voxel centres within `radius`, the label image's
    * outer layer of background excepted), the place's label takes every voxel when it holds at least half of them,
    * else gives its voxels to the label most frequent among the others there (the smaller on a tie). Then the
-   * diagonal contacts are joined again (when asked) and the feature transform is rebuilt. Other interpolators
-   * define their own surface: nothing changes and no ball is returned. */
+   * diagonal contacts near the changed voxels are joined again (when asked) and the feature transform is updated. Other
+   * interpolators define their own surface: nothing changes and no ball is returned. */
   std::vector<delaunay_refinement::Ball>
   RegularizeAround(const std::vector<delaunay_refinement::NonManifoldPlace> & places, double radius) override;
 
@@ -181,19 +181,36 @@ private:
   BuildNearestInterfaceMap();
   /** The same after labels changed near the given z-slices only (RegularizeAround; each slice within a voxel of a
    * changed voxel, in increasing order): the passes along x and y stay within a slice, so only those slices' are
-   * redone, from m_NearestInterfaceInSlices, and the pass along z everywhere. The result is the full build's, bit
-   * for bit. */
+   * redone, from m_NearestInterfaceInSlices, and the pass along z on the columns whose values there changed. The
+   * result is the full build's, bit for bit. */
   void
   UpdateNearestInterfaceMap(const std::vector<SizeValueType> & slices);
-  /** Changes the labels in one ball (RegularizeAround); returns how many voxels changed. */
-  SizeValueType
-  RegularizeBall(const delaunay_refinement::NonManifoldPlace & place, double radius);
+  /** Changes the labels in one ball (RegularizeAround); appends each voxel it changes to `changes`. */
+  void
+  RegularizeBall(const delaunay_refinement::NonManifoldPlace & place, double radius,
+                 std::vector<delaunay_refinement::VoxelChange> & changes);
   void
   CountObjectVoxels();
   void
   MarkInterfaceVoxels(SizeValueType firstSlice, SizeValueType endSlice);
+  /** Scratch space of one pass of the feature transform along a line of `length` voxels. */
+  struct LowerEnvelope
+  {
+    explicit LowerEnvelope(SizeValueType length)
+      : height(length)
+      , site(length)
+      , parabola(length)
+      , leftBoundary(length)
+    {}
+    std::vector<double>        height;
+    std::vector<uint32_t>      site;
+    std::vector<SizeValueType> parabola;
+    std::vector<double>        leftBoundary;
+  };
   void
   PropagateNearestInterfaceAlong(unsigned int axis, SizeValueType firstLine, SizeValueType endLine);
+  void
+  PropagateNearestInterfaceAlongLine(unsigned int axis, SizeValueType lineStart, LowerEnvelope & envelope);
   double
   SquaredDistanceAlongLowerAxes(const SizeValueType * coordinates, SizeValueType lowerOffset, unsigned int axis) const;
   LabelType

@@ -264,68 +264,77 @@ void
 ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlong(unsigned int axis, SizeValueType firstLine,
                                                               SizeValueType endLine)
 {
-  constexpr uint32_t  none = std::numeric_limits<uint32_t>::max();
-  constexpr double    infinity = std::numeric_limits<double>::infinity();
   const auto &        size = m_LabelImage->GetBufferedRegion().GetSize();
-  const double        step = m_LabelImage->GetSpacing()[axis];
-  const SizeValueType length = size[axis];
-  SizeValueType       stride = 1;
-  for (unsigned int lower = 0; lower < axis; ++lower)
-  {
-    stride *= size[lower];
-  }
-  std::vector<double>        height(length);
-  std::vector<uint32_t>      site(length);
-  std::vector<SizeValueType> parabola(length);
-  std::vector<double>        leftBoundary(length);
-  const auto                 intersection = [&](SizeValueType p, SizeValueType q) {
-    const double pPosition = static_cast<double>(p) * step;
-    const double qPosition = static_cast<double>(q) * step;
-    return (height[q] + qPosition * qPosition - height[p] - pPosition * pPosition) / (2.0 * (qPosition - pPosition));
-  };
+  const SizeValueType stride = axis == 0 ? 1 : axis == 1 ? size[0] : size[0] * size[1];
   // A block is a line along `axis` for axis 0, a z-slice for axis 1, the whole image for axis 2.
-  const SizeValueType blocks = m_NearestInterfaceVoxel.size() / (stride * length);
+  const SizeValueType blocks = m_NearestInterfaceVoxel.size() / (stride * size[axis]);
+  LowerEnvelope       envelope(size[axis]);
   for (SizeValueType block = firstLine; block < std::min(endLine, blocks); ++block)
   {
     for (SizeValueType lowerOffset = 0; lowerOffset < stride; ++lowerOffset)
     {
-      const SizeValueType lineStart = block * stride * length + lowerOffset;
-      const SizeValueType lineCoordinates[2] = { lowerOffset % size[0], lowerOffset / size[0] };
-      for (SizeValueType t = 0; t < length; ++t)
-      {
-        const SizeValueType offset = lineStart + t * stride;
-        site[t] = m_NearestInterfaceVoxel[offset];
-        height[t] = site[t] == none
-                      ? infinity
-                      : SquaredDistanceAlongLowerAxes(lineCoordinates, site[t] - (offset - lowerOffset), axis);
-      }
-      SizeValueType parabolas = 0;
-      for (SizeValueType q = 0; q < length; ++q)
-      {
-        if (site[q] == none)
-        {
-          continue;
-        }
-        double boundary = -infinity;
-        while (parabolas > 0 && (boundary = intersection(parabola[parabolas - 1], q)) <= leftBoundary[parabolas - 1])
-        {
-          --parabolas;
-          boundary = -infinity;
-        }
-        parabola[parabolas] = q;
-        leftBoundary[parabolas] = boundary;
-        ++parabolas;
-      }
-      SizeValueType current = 0;
-      for (SizeValueType t = 0; t < length && parabolas > 0; ++t)
-      {
-        while (current + 1 < parabolas && leftBoundary[current + 1] < static_cast<double>(t) * step)
-        {
-          ++current;
-        }
-        m_NearestInterfaceVoxel[lineStart + t * stride] = site[parabola[current]];
-      }
+      PropagateNearestInterfaceAlongLine(axis, block * stride * size[axis] + lowerOffset, envelope);
     }
+  }
+}
+
+/** The pass on the line along `axis` from `lineStart` (whose offset within its block is less than the line's
+ * stride). */
+template <typename TInputImage>
+void
+ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlongLine(unsigned int axis, SizeValueType lineStart,
+                                                                  LowerEnvelope & envelope)
+{
+  constexpr uint32_t           none = std::numeric_limits<uint32_t>::max();
+  constexpr double             infinity = std::numeric_limits<double>::infinity();
+  const auto &                 size = m_LabelImage->GetBufferedRegion().GetSize();
+  const double                 step = m_LabelImage->GetSpacing()[axis];
+  const SizeValueType          length = size[axis];
+  const SizeValueType          stride = axis == 0 ? 1 : axis == 1 ? size[0] : size[0] * size[1];
+  const SizeValueType          lowerOffset = lineStart % stride;
+  std::vector<double> &        height = envelope.height;
+  std::vector<uint32_t> &      site = envelope.site;
+  std::vector<SizeValueType> & parabola = envelope.parabola;
+  std::vector<double> &        leftBoundary = envelope.leftBoundary;
+  const auto                   intersection = [&](SizeValueType p, SizeValueType q) {
+    const double pPosition = static_cast<double>(p) * step;
+    const double qPosition = static_cast<double>(q) * step;
+    return (height[q] + qPosition * qPosition - height[p] - pPosition * pPosition) / (2.0 * (qPosition - pPosition));
+  };
+  const SizeValueType lineCoordinates[2] = { lowerOffset % size[0], lowerOffset / size[0] };
+  for (SizeValueType t = 0; t < length; ++t)
+  {
+    const SizeValueType offset = lineStart + t * stride;
+    site[t] = m_NearestInterfaceVoxel[offset];
+    height[t] = site[t] == none
+                  ? infinity
+                  : SquaredDistanceAlongLowerAxes(lineCoordinates, site[t] - (offset - lowerOffset), axis);
+  }
+  SizeValueType parabolas = 0;
+  for (SizeValueType q = 0; q < length; ++q)
+  {
+    if (site[q] == none)
+    {
+      continue;
+    }
+    double boundary = -infinity;
+    while (parabolas > 0 && (boundary = intersection(parabola[parabolas - 1], q)) <= leftBoundary[parabolas - 1])
+    {
+      --parabolas;
+      boundary = -infinity;
+    }
+    parabola[parabolas] = q;
+    leftBoundary[parabolas] = boundary;
+    ++parabolas;
+  }
+  SizeValueType current = 0;
+  for (SizeValueType t = 0; t < length && parabolas > 0; ++t)
+  {
+    while (current + 1 < parabolas && leftBoundary[current + 1] < static_cast<double>(t) * step)
+    {
+      ++current;
+    }
+    m_NearestInterfaceVoxel[lineStart + t * stride] = site[parabola[current]];
   }
 }
 
@@ -357,22 +366,42 @@ ImageLabelOracle<TInputImage>::UpdateNearestInterfaceMap(const std::vector<SizeV
 {
   const auto &        size = m_LabelImage->GetBufferedRegion().GetSize();
   const SizeValueType sliceSize = size[0] * size[1];
-  m_NearestInterfaceVoxel = m_NearestInterfaceInSlices;
+  // The slices are redone in place, then given their final values back: the pass along z is redone only on the
+  // columns whose values after the first two passes changed, from those values.
+  std::vector<bool>     columnChanged(sliceSize, false);
+  std::vector<uint32_t> finalValues(sliceSize);
   for (const SizeValueType slice : slices)
   {
-    const auto first = static_cast<std::ptrdiff_t>(slice * sliceSize);
-    const auto end = static_cast<std::ptrdiff_t>((slice + 1) * sliceSize);
-    std::fill(m_NearestInterfaceVoxel.begin() + first,
-              m_NearestInterfaceVoxel.begin() + end,
-              std::numeric_limits<uint32_t>::max());
+    const auto first = m_NearestInterfaceVoxel.begin() + static_cast<std::ptrdiff_t>(slice * sliceSize);
+    const auto end = first + static_cast<std::ptrdiff_t>(sliceSize);
+    std::copy(first, end, finalValues.begin());
+    std::fill(first, end, std::numeric_limits<uint32_t>::max());
     MarkInterfaceVoxels(slice, slice + 1);
     PropagateNearestInterfaceAlong(0, slice * size[1], (slice + 1) * size[1]);
     PropagateNearestInterfaceAlong(1, slice, slice + 1);
-    std::copy(m_NearestInterfaceVoxel.begin() + first,
-              m_NearestInterfaceVoxel.begin() + end,
-              m_NearestInterfaceInSlices.begin() + first);
+    const auto inSlices = m_NearestInterfaceInSlices.begin() + static_cast<std::ptrdiff_t>(slice * sliceSize);
+    for (SizeValueType column = 0; column < sliceSize; ++column)
+    {
+      if (first[column] != inSlices[column])
+      {
+        columnChanged[column] = true;
+        inSlices[column] = first[column];
+      }
+    }
+    std::copy(finalValues.begin(), finalValues.end(), first);
   }
-  PropagateNearestInterfaceAlong(2, 0, 1);
+  LowerEnvelope envelope(size[2]);
+  for (SizeValueType column = 0; column < sliceSize; ++column)
+  {
+    if (columnChanged[column])
+    {
+      for (SizeValueType slice = 0; slice < size[2]; ++slice)
+      {
+        m_NearestInterfaceVoxel[column + slice * sliceSize] = m_NearestInterfaceInSlices[column + slice * sliceSize];
+      }
+      PropagateNearestInterfaceAlongLine(2, column, envelope);
+    }
+  }
 }
 
 template <typename TInputImage>

@@ -44,8 +44,9 @@ ImageLabelOracle<TInputImage>::CountObjectVoxels()
 }
 
 template <typename TInputImage>
-SizeValueType
-ImageLabelOracle<TInputImage>::RegularizeBall(const delaunay_refinement::NonManifoldPlace & place, double radius)
+void
+ImageLabelOracle<TInputImage>::RegularizeBall(const delaunay_refinement::NonManifoldPlace & place, double radius,
+                                              std::vector<delaunay_refinement::VoxelChange> & changes)
 {
   // The outer layer of the label image stays background: the feature transform needs every interface inside.
   auto interior = m_LabelImage->GetBufferedRegion();
@@ -69,7 +70,7 @@ ImageLabelOracle<TInputImage>::RegularizeBall(const delaunay_refinement::NonMani
       std::min(static_cast<IndexValueType>(std::ceil(centerIndex[axis] + reach)), interior.GetUpperIndex()[axis]);
     if (lower[axis] > upper[axis])
     {
-      return 0;
+      return;
     }
   }
   typename LabelImageType::RegionType box;
@@ -101,18 +102,17 @@ ImageLabelOracle<TInputImage>::RegularizeBall(const delaunay_refinement::NonMani
       }
     }
   }
-  SizeValueType changed = 0;
+  LabelType * const buffer = m_LabelImage->GetBufferPointer();
   for (LabelType * voxel : inside)
   {
     // Filling: every voxel takes the place's label; cutting: the place's voxels take the replacement.
     const bool fill = replacement == place.label;
     if ((fill && *voxel != place.label) || (!fill && *voxel == place.label))
     {
+      changes.push_back({ static_cast<std::size_t>(voxel - buffer), *voxel });
       *voxel = replacement;
-      ++changed;
     }
   }
-  return changed;
 }
 
 template <typename TInputImage>
@@ -125,16 +125,14 @@ ImageLabelOracle<TInputImage>::RegularizeAround(const std::vector<delaunay_refin
   {
     return balls;
   }
-  const LabelType *            buffer = m_LabelImage->GetBufferPointer();
-  const auto                   numberOfVoxels = m_LabelImage->GetBufferedRegion().GetNumberOfPixels();
-  const std::vector<LabelType> before(buffer, buffer + numberOfVoxels);
-  SizeValueType                changed = 0;
+  // Each ball's changes, in order: a voxel changed by several balls is listed by each, with the label it had then.
+  std::vector<delaunay_refinement::VoxelChange> changes;
   for (const delaunay_refinement::NonManifoldPlace & place : places)
   {
-    const SizeValueType changedHere = RegularizeBall(place, radius);
-    if (changedHere > 0)
+    const std::size_t changedBefore = changes.size();
+    RegularizeBall(place, radius, changes);
+    if (changes.size() > changedBefore)
     {
-      changed += changedHere;
       balls.push_back({ place.point, radius });
     }
   }
@@ -142,29 +140,52 @@ ImageLabelOracle<TInputImage>::RegularizeAround(const std::vector<delaunay_refin
   {
     return balls;
   }
-  const auto &             size = m_LabelImage->GetBufferedRegion().GetSize();
-  std::vector<std::size_t> pinchChanges;
+  LabelType * const                             labels = m_LabelImage->GetBufferPointer();
+  const auto &                                  size = m_LabelImage->GetBufferedRegion().GetSize();
+  std::vector<delaunay_refinement::VoxelChange> pinchChanges;
   if (m_Mapping.joinDiagonalVoxels)
   {
-    m_NumberOfJoiningVoxels += delaunay_refinement::RemoveVoxelPinches(
-      m_LabelImage->GetBufferPointer(), { size[0], size[1], size[2] }, &pinchChanges);
+    // The labels had no pinch the removal could mend before the balls changed them: only those changes can make one.
+    std::vector<std::size_t> changedVoxels(changes.size());
+    std::transform(changes.begin(),
+                   changes.end(),
+                   changedVoxels.begin(),
+                   [](const delaunay_refinement::VoxelChange & change) { return change.offset; });
+    m_NumberOfJoiningVoxels += delaunay_refinement::RemoveVoxelPinchesAround(
+      labels, { size[0], size[1], size[2] }, changedVoxels, &pinchChanges);
   }
-  CountObjectVoxels();
-  if (m_NumberOfObjectVoxels == 0)
+  const SizeValueType changedInBalls = changes.size();
+  changes.insert(changes.end(), pinchChanges.begin(), pinchChanges.end());
+  // The first change of a voxel holds the label it had before this call.
+  std::map<std::size_t, LabelType> originals;
+  for (const delaunay_refinement::VoxelChange & change : changes)
+  {
+    originals.emplace(change.offset, change.before);
+  }
+  SizeValueType objectVoxels = m_NumberOfObjectVoxels;
+  for (const auto & [offset, before] : originals)
+  {
+    const bool wasObject = before != delaunay_refinement::BackgroundLabel;
+    const bool isObject = labels[offset] != delaunay_refinement::BackgroundLabel;
+    objectVoxels = objectVoxels + (isObject ? 1 : 0) - (wasObject ? 1 : 0);
+  }
+  if (objectVoxels == 0)
   {
     // Nothing would be left to mesh: keep the labels as they were.
-    std::copy(before.begin(), before.end(), m_LabelImage->GetBufferPointer());
-    CountObjectVoxels();
+    for (const auto & [offset, before] : originals)
+    {
+      labels[offset] = before;
+    }
     return {};
   }
-  m_NumberOfLocallyRegularizedVoxels += changed;
+  m_NumberOfObjectVoxels = objectVoxels;
+  m_NumberOfLocallyRegularizedVoxels += changedInBalls;
   // Only the z-slices within a voxel of a changed voxel have other interface voxels.
-  const LabelType *          after = m_LabelImage->GetBufferPointer();
   const SizeValueType        sliceSize = size[0] * size[1];
   std::vector<SizeValueType> slices;
-  for (SizeValueType offset = 0; offset < numberOfVoxels; ++offset)
+  for (const auto & [offset, before] : originals)
   {
-    if (after[offset] != before[offset])
+    if (labels[offset] != before)
     {
       const SizeValueType slice = offset / sliceSize;
       for (SizeValueType near = slice > 0 ? slice - 1 : 0; near <= std::min(slice + 1, size[2] - 1); ++near)
@@ -186,9 +207,9 @@ ImageLabelOracle<TInputImage>::RegularizeAround(const std::vector<delaunay_refin
   {
     ball.radius += voxelDiagonal;
   }
-  for (const std::size_t offset : pinchChanges)
+  for (const delaunay_refinement::VoxelChange & change : pinchChanges)
   {
-    const std::array<uint32_t, 3> coordinates = BufferCoordinatesOf(static_cast<uint32_t>(offset));
+    const std::array<uint32_t, 3> coordinates = BufferCoordinatesOf(static_cast<uint32_t>(change.offset));
     IndexType                     index;
     for (unsigned int axis = 0; axis < 3; ++axis)
     {

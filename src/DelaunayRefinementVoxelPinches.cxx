@@ -97,12 +97,13 @@ public:
     m_LoweredOnce.assign(size[0] * size[1] * size[2], false);
   }
 
-  std::size_t
+  /** Looks at every block of the grid, in order. */
+  void
   Run()
   {
     if (m_Size[0] < 2 || m_Size[1] < 2 || m_Size[2] < 2)
     {
-      return 0;
+      return;
     }
     for (std::size_t k = 0; k + 1 < m_Size[2]; ++k)
     {
@@ -111,29 +112,63 @@ public:
         std::size_t offset = m_Strides[1] * j + m_Strides[2] * k;
         for (std::size_t i = 0; i + 1 < m_Size[0]; ++i, ++offset)
         {
-          m_Pending.push_back(offset);
-          ProcessPending();
+          // Most blocks hold one label: a pinch needs two.
+          if (!IsUniform(offset))
+          {
+            m_Pending.push_back(offset);
+            ProcessPending();
+          }
         }
       }
     }
-    return ChangedVoxels().size();
   }
 
-  /** The voxels whose label differs from the one they had, in increasing order (a voxel may change more than
-   * once, and end where it began). */
-  std::vector<std::size_t>
-  ChangedVoxels() const
+  /** Looks at the blocks holding the given voxels, in the order Run() would. In labels where no other block holds
+   * a pinch the removal can mend, this is what Run() does: a block changes only when a voxel in it changes, and then
+   * it is looked at again. */
+  void
+  RunAround(const std::vector<std::size_t> & changedVoxels)
   {
-    std::vector<std::size_t> changed;
-    for (const auto & [offset, original] : m_Originals)
+    if (m_Size[0] < 2 || m_Size[1] < 2 || m_Size[2] < 2)
     {
-      if (m_Labels[offset] != original)
+      return;
+    }
+    std::vector<std::size_t> blocks;
+    for (const std::size_t voxel : changedVoxels)
+    {
+      ForEachCubeHolding(voxel, [&blocks](std::size_t cube, int) { blocks.push_back(cube); });
+    }
+    std::sort(blocks.begin(), blocks.end());
+    blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());
+    for (const std::size_t block : blocks)
+    {
+      m_Pending.push_back(block);
+      ProcessPending();
+    }
+  }
+
+  /** How many voxels have a label that differs from the one they had (a voxel may change more than once, and end
+   * where it began); `changes`, when given, receives them in increasing order, with the label they had. */
+  std::size_t
+  ReportChanges(std::vector<VoxelChange> * changes) const
+  {
+    std::vector<VoxelChange> differing;
+    for (const VoxelChange & original : m_Originals)
+    {
+      if (m_Labels[original.offset] != original.before)
       {
-        changed.push_back(offset);
+        differing.push_back(original);
       }
     }
-    std::sort(changed.begin(), changed.end());
-    return changed;
+    const std::size_t count = differing.size();
+    if (changes)
+    {
+      std::sort(differing.begin(), differing.end(), [](const VoxelChange & a, const VoxelChange & b) {
+        return a.offset < b.offset;
+      });
+      *changes = std::move(differing);
+    }
+    return count;
   }
 
 private:
@@ -145,9 +180,16 @@ private:
   {
     std::unordered_map<Label, std::size_t> counts;
     const std::size_t                      numberOfVoxels = m_Size[0] * m_Size[1] * m_Size[2];
-    for (std::size_t offset = 0; offset < numberOfVoxels; ++offset)
+    // Labels come in long runs: count a run at a time rather than hash every voxel.
+    for (std::size_t offset = 0; offset < numberOfVoxels;)
     {
-      ++counts[m_Labels[offset]];
+      const Label       label = m_Labels[offset];
+      const std::size_t runStart = offset;
+      while (offset < numberOfVoxels && m_Labels[offset] == label)
+      {
+        ++offset;
+      }
+      counts[label] += offset - runStart;
     }
     std::vector<std::pair<Label, std::size_t>> ordered(counts.begin(), counts.end());
     std::sort(ordered.begin(), ordered.end(), [](const auto & a, const auto & b) {
@@ -197,17 +239,31 @@ private:
     }
   }
 
+  bool
+  IsUniform(std::size_t cube) const
+  {
+    const Label first = m_Labels[cube];
+    for (int corner = 1; corner < 8; ++corner)
+    {
+      if (m_Labels[cube + m_CornerOffsets[corner]] != first)
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+
   void
   CheckCube(std::size_t cube)
   {
+    if (IsUniform(cube))
+    {
+      return;
+    }
     std::array<Label, 8> labels;
     for (int corner = 0; corner < 8; ++corner)
     {
       labels[corner] = m_Labels[cube + m_CornerOffsets[corner]];
-    }
-    if (std::all_of(labels.begin(), labels.end(), [&](Label label) { return label == labels[0]; }))
-    {
-      return;
     }
     for (int corner = 0; corner < 8; ++corner)
     {
@@ -356,7 +412,7 @@ private:
     if (!m_HasChanged[change.offset])
     {
       m_HasChanged[change.offset] = true;
-      m_Originals.emplace_back(change.offset, m_Labels[change.offset]);
+      m_Originals.push_back({ change.offset, m_Labels[change.offset] });
     }
     m_Labels[change.offset] = change.label;
     ForEachCubeHolding(change.offset, [this](std::size_t cube, int) { m_Pending.push_back(cube); });
@@ -375,30 +431,35 @@ private:
     return count;
   }
 
-  Label *                                    m_Labels;
-  const std::array<std::size_t, 3>           m_Size;
-  const std::array<std::size_t, 3>           m_Strides;
-  std::array<std::size_t, 8>                 m_CornerOffsets{};
-  std::unordered_map<Label, std::size_t>     m_Rank;
-  const CriticalConfigurations               m_IsCritical;
-  std::vector<bool>                          m_HasChanged;
-  std::vector<bool>                          m_LoweredOnce;
-  std::deque<std::size_t>                    m_Pending;
-  std::vector<std::pair<std::size_t, Label>> m_Originals;
+  Label *                                m_Labels;
+  const std::array<std::size_t, 3>       m_Size;
+  const std::array<std::size_t, 3>       m_Strides;
+  std::array<std::size_t, 8>             m_CornerOffsets{};
+  std::unordered_map<Label, std::size_t> m_Rank;
+  const CriticalConfigurations           m_IsCritical;
+  std::vector<bool>                      m_HasChanged;
+  std::vector<bool>                      m_LoweredOnce;
+  std::deque<std::size_t>                m_Pending;
+  std::vector<VoxelChange>               m_Originals;
 };
 
 } // namespace
 
 std::size_t
-RemoveVoxelPinches(Label * labels, const std::array<std::size_t, 3> & size, std::vector<std::size_t> * changedVoxels)
+RemoveVoxelPinches(Label * labels, const std::array<std::size_t, 3> & size, std::vector<VoxelChange> * changes)
 {
   VoxelPinchRemover remover(labels, size);
-  const std::size_t changed = remover.Run();
-  if (changedVoxels)
-  {
-    *changedVoxels = remover.ChangedVoxels();
-  }
-  return changed;
+  remover.Run();
+  return remover.ReportChanges(changes);
+}
+
+std::size_t
+RemoveVoxelPinchesAround(Label * labels, const std::array<std::size_t, 3> & size,
+                         const std::vector<std::size_t> & changedVoxels, std::vector<VoxelChange> * changes)
+{
+  VoxelPinchRemover remover(labels, size);
+  remover.RunAround(changedVoxels);
+  return remover.ReportChanges(changes);
 }
 
 } // namespace delaunay_refinement

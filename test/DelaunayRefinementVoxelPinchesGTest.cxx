@@ -324,5 +324,82 @@ TEST(RemoveVoxelPinches, RandomSpeckle)
   EXPECT_GT(tissueToTissue, 20u);
 }
 
+/** After labels without pinches change in a few boxes, RemoveVoxelPinchesAround, which looks only near the
+ * changes, ends where the whole-grid pass ends, leaves no pinch, and reports each change with the label it undoes. */
+TEST(RemoveVoxelPinches, AroundChangesEndsAsTheWholeGridPass)
+{
+  uint64_t   state = 20261126;
+  const auto next = [&state]() {
+    state ^= state << 13;
+    state ^= state >> 7;
+    state ^= state << 17;
+    return state;
+  };
+  std::size_t pinchesMade = 0;
+  for (int gridNumber = 0; gridNumber < 60; ++gridNumber)
+  {
+    Grid           grid = EmptyGrid({ { 6 + next() % 12, 6 + next() % 12, 6 + next() % 12 } });
+    const uint64_t tissues = 1 + next() % 4;
+    for (std::size_t k = 1; k + 1 < grid.size[2]; ++k)
+    {
+      for (std::size_t j = 1; j + 1 < grid.size[1]; ++j)
+      {
+        for (std::size_t i = 1; i + 1 < grid.size[0]; ++i)
+        {
+          grid.At(i, j, k) = next() % 10 < 5 ? static_cast<Label>(1 + next() % tissues) : BackgroundLabel;
+        }
+      }
+    }
+    RemoveVoxelPinches(grid.labels.data(), grid.size);
+    ASSERT_EQ(CountPinches(grid), 0u) << "grid " << gridNumber;
+    // A few boxes of one to three voxels a side take one label, inside the background border.
+    std::vector<std::size_t> changed;
+    for (int box = 0; box < 3; ++box)
+    {
+      const Label                label = static_cast<Label>(next() % (tissues + 1));
+      std::array<std::size_t, 3> lower{};
+      std::array<std::size_t, 3> extent{};
+      for (int axis = 0; axis < 3; ++axis)
+      {
+        extent[axis] = 1 + next() % 3;
+        lower[axis] = 1 + next() % (grid.size[axis] - 1 - extent[axis]);
+      }
+      for (std::size_t k = lower[2]; k < lower[2] + extent[2]; ++k)
+      {
+        for (std::size_t j = lower[1]; j < lower[1] + extent[1]; ++j)
+        {
+          for (std::size_t i = lower[0]; i < lower[0] + extent[0]; ++i)
+          {
+            if (grid.At(i, j, k) != label)
+            {
+              grid.At(i, j, k) = label;
+              changed.push_back(i + grid.size[0] * (j + grid.size[1] * k));
+            }
+          }
+        }
+      }
+    }
+    pinchesMade += CountPinches(grid);
+    const std::vector<Label> before = grid.labels;
+    Grid                     whole = grid;
+    RemoveVoxelPinches(whole.labels.data(), whole.size);
+    std::vector<VoxelChange> changes;
+    const std::size_t        count = RemoveVoxelPinchesAround(grid.labels.data(), grid.size, changed, &changes);
+    EXPECT_EQ(CountPinches(grid), 0u) << "grid " << gridNumber;
+    EXPECT_EQ(grid.labels, whole.labels) << "grid " << gridNumber;
+    ASSERT_EQ(changes.size(), count) << "grid " << gridNumber;
+    std::vector<Label> undone = grid.labels;
+    for (std::size_t c = 0; c < changes.size(); ++c)
+    {
+      EXPECT_TRUE(c == 0 || changes[c - 1].offset < changes[c].offset) << "grid " << gridNumber;
+      EXPECT_NE(grid.labels[changes[c].offset], changes[c].before) << "grid " << gridNumber;
+      undone[changes[c].offset] = changes[c].before;
+    }
+    EXPECT_EQ(undone, before) << "grid " << gridNumber;
+  }
+  // The boxes are made to pinch the labels around them: a test where they never do proves nothing.
+  EXPECT_GT(pinchesMade, 30u);
+}
+
 } // namespace
 } // namespace delaunay_refinement
