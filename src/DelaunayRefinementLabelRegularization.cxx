@@ -53,9 +53,11 @@ struct VoxelBox
   }
 };
 
-/** Squared distances from every voxel of a box to the nearest site, and that site, by three passes of the 1-D
- * transform: after the pass along an axis, each voxel holds the nearest site among the voxels that differ from it
- * along that axis and the earlier ones only. */
+/** Squared distances from voxels of a box to the nearest site, and that site, by three passes of the 1-D transform:
+ * after the pass along an axis, each voxel holds the nearest site among the voxels that differ from it along that
+ * axis and the earlier ones only. The result is right at the sites and at the voxels asked for (AddQuery): a line
+ * whose voxels are all sites, or hold no site yet, is the same after its pass, and the last pass skips the lines
+ * without a voxel asked for. */
 class NearestSiteTransform
 {
 public:
@@ -64,6 +66,7 @@ public:
     , m_Spacing(spacing)
     , m_SquaredDistance(box.NumberOfVoxels(), Infinity)
     , m_Site(box.NumberOfVoxels(), NoSite)
+    , m_LastPassLines(static_cast<std::size_t>(box.size[0] * box.size[1]), false)
   {}
 
   /** Marks a site by its index in the box; `id` is what Site() returns for the voxels nearest to it. */
@@ -72,6 +75,13 @@ public:
   {
     m_SquaredDistance[index] = 0.0;
     m_Site[index] = id;
+  }
+
+  /** Asks for the nearest site of the voxel at `index` in the box. */
+  void
+  AddQuery(std::size_t index)
+  {
+    m_LastPassLines[index % m_LastPassLines.size()] = true;
   }
 
   /** `checkpoint` is called before each pass. */
@@ -85,8 +95,9 @@ public:
     for (int axis = 0; axis < 3; ++axis)
     {
       checkpoint();
-      const int         first = (axis + 1) % 3;
-      const int         second = (axis + 2) % 3;
+      // Lines next to each other along x share their cache lines: x is the inner loop wherever the lines cross it.
+      const int         first = axis == 0 ? 1 : 0;
+      const int         second = 3 - axis - first;
       const std::size_t length = static_cast<std::size_t>(m_Box.size[axis]);
       m_Line.resize(length);
       m_LineSite.resize(length);
@@ -96,7 +107,10 @@ public:
         {
           const std::size_t start =
             static_cast<std::size_t>(a) * strides[first] + static_cast<std::size_t>(b) * strides[second];
-          TransformLine(start, strides[axis], length, m_Spacing[axis]);
+          if (axis < 2 || m_LastPassLines[start])
+          {
+            TransformLine(start, strides[axis], length, m_Spacing[axis]);
+          }
         }
       }
     }
@@ -119,17 +133,28 @@ private:
   void
   TransformLine(std::size_t start, std::size_t stride, std::size_t length, double spacing)
   {
+    bool holdsASite = false;
+    bool holdsAVoxelAway = false;
     for (std::size_t q = 0; q < length; ++q)
     {
       m_Line[q] = m_SquaredDistance[start + q * stride];
       m_LineSite[q] = m_Site[start + q * stride];
+      holdsASite = holdsASite || m_Line[q] != Infinity;
+      holdsAVoxelAway = holdsAVoxelAway || m_Line[q] != 0.0;
+    }
+    if (!holdsASite || !holdsAVoxelAway)
+    {
+      return;
     }
     m_Vertices.clear();
     m_Boundaries.clear();
     const auto height = [&](std::size_t q) { return m_Line[q] + (q * spacing) * (q * spacing); };
     for (std::size_t q = 0; q < length; ++q)
     {
-      if (m_Line[q] == Infinity)
+      // A voxel at distance 0 is a site, its own nearest. Inside a run of them, only the run's ends can be nearest
+      // to a voxel outside it: the sites strictly inside are left out (most voxels are sites).
+      if (m_Line[q] == Infinity ||
+          (m_Line[q] == 0.0 && q > 0 && q + 1 < length && m_Line[q - 1] == 0.0 && m_Line[q + 1] == 0.0))
       {
         continue;
       }
@@ -162,7 +187,11 @@ private:
         ++parabola;
       }
       const std::size_t q = m_Vertices[parabola];
-      const double      offset = (static_cast<double>(x) - static_cast<double>(q)) * spacing;
+      if (m_Line[x] == 0.0)
+      {
+        continue;
+      }
+      const double offset = (static_cast<double>(x) - static_cast<double>(q)) * spacing;
       m_SquaredDistance[start + x * stride] = offset * offset + m_Line[q];
       m_Site[start + x * stride] = m_LineSite[q];
     }
@@ -172,6 +201,8 @@ private:
   Vector3                  m_Spacing;
   std::vector<double>      m_SquaredDistance;
   std::vector<std::size_t> m_Site;
+  /** The lines of the last pass, by their voxel in the first slice, that hold a voxel asked for. */
+  std::vector<bool>        m_LastPassLines;
   std::vector<double>      m_Line;
   std::vector<std::size_t> m_LineSite;
   std::vector<std::size_t> m_Vertices;
@@ -1057,7 +1088,9 @@ private:
         }
       }
     }
-    survivors.Compute([this] { Checkpoint(); });
+    // Where each voxel is in the box, and how far the box's sides that are not the grid's are from it.
+    std::vector<std::pair<std::size_t, double>> inBoxAndToOutside;
+    inBoxAndToOutside.reserve(voxels.size());
     for (const std::size_t voxel : voxels)
     {
       const std::array<long, 3> at = CoordinatesOf(voxel);
@@ -1076,6 +1109,14 @@ private:
           toOutside = std::min(toOutside, static_cast<double>(box.size[axis] - inBox) * m_Spacing[axis]);
         }
       }
+      survivors.AddQuery(indexInBox);
+      inBoxAndToOutside.emplace_back(indexInBox, toOutside);
+    }
+    survivors.Compute([this] { Checkpoint(); });
+    for (std::size_t query = 0; query < voxels.size(); ++query)
+    {
+      const std::size_t voxel = voxels[query];
+      const auto & [indexInBox, toOutside] = inBoxAndToOutside[query];
       if (toOutside != Infinity && !(survivors.SquaredDistance(indexInBox) <= toOutside * toOutside))
       {
         return false;
