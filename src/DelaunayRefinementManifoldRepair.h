@@ -27,6 +27,7 @@
 #include "DelaunayRefinementMeshQuality.h"
 #include "DelaunayRefinementSizing.h"
 #include "DelaunayRefinementSpatialGrid.h"
+#include "DelaunayRefinementVertexLinks.h"
 
 #include <algorithm>
 #include <cmath>
@@ -120,6 +121,42 @@ public:
       }
     }
     places.numberOfBoundaryVertices = boundaryVertices.size();
+    return places;
+  }
+
+  /** The non-manifold places among `candidates`, by the local link test (VertexLinks): what
+   * FindNonManifoldPlaces() finds when the other vertices' stars are as they were at a search that found them
+   * manifold (a vertex is non-manifold for a label exactly when its link in that label's boundary is not one
+   * cycle; an edge in other than two of the label's triangles makes both its ends so). The relabelling changes
+   * labels around the vertices it worked on only, so after it this costs a few stars instead of a walk over the
+   * whole mesh. `numberOfBoundaryVertices` is carried over from that search. */
+  NonManifoldPlaces
+  NonManifoldPlacesAmong(std::vector<VertexHandle> candidates, std::size_t numberOfBoundaryVertices) const
+  {
+    const auto byId = [](VertexHandle a, VertexHandle b) { return a->info().id < b->info().id; };
+    std::sort(candidates.begin(), candidates.end(), byId);
+    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    const Triangulation &   triangulation = m_State.GetTriangulation();
+    std::vector<CellHandle> star;
+    NonManifoldPlaces       places;
+    places.numberOfBoundaryVertices = numberOfBoundaryVertices;
+    for (const VertexHandle vertex : candidates)
+    {
+      star.clear();
+      triangulation.incident_cells(vertex, std::back_inserter(star));
+      const std::vector<Label> labels = m_Links.ListNonManifoldLabelsAt(triangulation, vertex, star);
+      if (labels.empty())
+      {
+        continue;
+      }
+      const Vector3 point = m_State.PointOf(vertex);
+      for (const Label label : labels)
+      {
+        places.places.push_back({ point, label });
+      }
+      places.vertices.push_back(vertex);
+      places.points.push_back(point);
+    }
     return places;
   }
 
@@ -231,6 +268,7 @@ private:
   const MeshExtraction & m_Extraction;
   LocalSampling &        m_Sizing;
   const double           m_FinestDelta;
+  VertexLinks            m_Links;
 };
 
 } // namespace detail

@@ -371,8 +371,9 @@ private:
     m_Statistics.remainingNonManifoldVertices = places.places.size();
   }
 
-  /** The places found, relabelled where that mends them, and found again when a move was made. The moves of the
-   * rounds before that the refinement left untouched are made again first. */
+  /** The places found, relabelled where that mends them, and looked for again among the relabelled tetrahedra's
+   * corners when a move was made. The moves of the rounds before that the refinement left untouched are made again
+   * first. */
   NonManifoldPlaces
   RelabelAndFindNonManifoldPlaces()
   {
@@ -383,7 +384,11 @@ private:
     NonManifoldPlaces places = m_Repair.FindNonManifoldPlaces();
     if (m_Parameters.relabelNonManifoldPlaces && !places.vertices.empty() && m_Relabelling.Relabel(places.vertices) > 0)
     {
-      places = m_Repair.FindNonManifoldPlaces();
+      // Only the corners of the relabelled tetrahedra have new stars: the places are among them and those found.
+      std::vector<VertexHandle>         candidates = places.vertices;
+      const std::vector<VertexHandle> & corners = m_Relabelling.CornersOfRelabelled();
+      candidates.insert(candidates.end(), corners.begin(), corners.end());
+      places = m_Repair.NonManifoldPlacesAmong(std::move(candidates), places.numberOfBoundaryVertices);
     }
     return places;
   }

@@ -70,6 +70,7 @@ public:
     const std::size_t changesBefore = m_Changes.size();
     m_Stars.clear();
     m_Counts.clear();
+    m_CornersOfRelabelled.clear();
     std::vector<VertexHandle> candidates;
     std::copy_if(nonManifoldVertices.begin(),
                  nonManifoldVertices.end(),
@@ -88,6 +89,7 @@ public:
       // Only the corners of changed tetrahedra have a new star: the next pass looks at those still offending.
       std::sort(touched.begin(), touched.end(), ById);
       touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+      m_CornersOfRelabelled.insert(m_CornersOfRelabelled.end(), touched.begin(), touched.end());
       candidates.clear();
       for (const VertexHandle vertex : touched)
       {
@@ -100,7 +102,18 @@ public:
     UnmarkCellsBackToTheirLabel();
     m_Stars.clear();
     m_Counts.clear();
+    std::sort(m_CornersOfRelabelled.begin(), m_CornersOfRelabelled.end(), ById);
+    m_CornersOfRelabelled.erase(std::unique(m_CornersOfRelabelled.begin(), m_CornersOfRelabelled.end()),
+                                m_CornersOfRelabelled.end());
     return m_Changes.size() - changesBefore;
+  }
+
+  /** The corners of the tetrahedra the last Relabel() changed, in insertion order: the only vertices whose star's
+   * labels it changed, so the only ones whose manifold test can give another answer. */
+  const std::vector<VertexHandle> &
+  CornersOfRelabelled() const
+  {
+    return m_CornersOfRelabelled;
   }
 
   /** Applies again, in their order, the moves undone by Revert() whose tetrahedra and face neighbours are all as
@@ -612,11 +625,12 @@ private:
 
   static constexpr Label UnionKey = VertexLinks::UnionKey;
 
-  MeshState &              m_State;
-  const LocalSampling &    m_Sizing;
-  const double             m_RadiusEdgeBound;
-  const DihedralAngleBound m_DihedralBound;
-  std::vector<Change>      m_Changes;
+  MeshState &               m_State;
+  const LocalSampling &     m_Sizing;
+  const double              m_RadiusEdgeBound;
+  const DihedralAngleBound  m_DihedralBound;
+  std::vector<Change>       m_Changes;
+  std::vector<VertexHandle> m_CornersOfRelabelled;
   // The moves made since the relabelling began, in order, for Replay().
   std::vector<MoveMade> m_MovesMade;
   // The stars collected in the current pass (StarOf()), keyed by the vertex's address.

@@ -47,6 +47,29 @@ public:
   NonManifoldLabelsAt(const Triangulation & triangulation, VertexHandle vertex,
                       const std::vector<CellHandle> & star) const
   {
+    int nonManifold = 0;
+    ForEachNonManifoldLabel(triangulation, vertex, star, [&nonManifold](Label) { ++nonManifold; });
+    return nonManifold;
+  }
+
+  /** The same labels, in increasing order. */
+  std::vector<Label>
+  ListNonManifoldLabelsAt(const Triangulation & triangulation, VertexHandle vertex,
+                          const std::vector<CellHandle> & star) const
+  {
+    std::vector<Label> labels;
+    ForEachNonManifoldLabel(triangulation, vertex, star, [&labels](Label label) { labels.push_back(label); });
+    return labels;
+  }
+
+private:
+  /** Calls visit(label) for each label whose link at the vertex is not empty and not one cycle, in increasing
+   * order. */
+  template <typename TVisit>
+  void
+  ForEachNonManifoldLabel(const Triangulation & triangulation, VertexHandle vertex,
+                          const std::vector<CellHandle> & star, TVisit && visit) const
+  {
     // (label, link edge): a few dozen entries, so flat and sorted rather than a map of vectors.
     m_Links.clear();
     for (const CellHandle cell : star)
@@ -90,18 +113,18 @@ public:
       }
     }
     std::sort(m_Links.begin(), m_Links.end(), [](const LinkEdge & a, const LinkEdge & b) { return a.label < b.label; });
-    int nonManifold = 0;
     for (auto first = m_Links.begin(); first != m_Links.end();)
     {
       const auto last =
         std::find_if(first, m_Links.end(), [first](const LinkEdge & edge) { return edge.label != first->label; });
-      nonManifold += IsOneCycle(first, last) ? 0 : 1;
+      if (!IsOneCycle(first, last))
+      {
+        visit(first->label);
+      }
       first = last;
     }
-    return nonManifold;
   }
 
-private:
   /** An edge of a label's link at a vertex. */
   struct LinkEdge
   {
