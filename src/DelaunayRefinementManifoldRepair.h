@@ -49,8 +49,6 @@ struct NonManifoldPlaces
   /** The offending vertices, each once, in insertion order, and where they are. */
   std::vector<VertexHandle> vertices;
   std::vector<Vector3>      points;
-  /** All boundary vertices. */
-  std::size_t numberOfBoundaryVertices{ 0 };
 };
 
 /** Finds non-manifold places on the tissues' boundaries and refines δ around them. */
@@ -120,27 +118,33 @@ public:
         places.points.push_back(point);
       }
     }
-    places.numberOfBoundaryVertices = boundaryVertices.size();
     return places;
   }
 
-  /** The non-manifold places among `candidates`, by the local link test (VertexLinks): what
-   * FindNonManifoldPlaces() finds when the other vertices' stars are as they were at a search that found them
-   * manifold (a vertex is non-manifold for a label exactly when its link in that label's boundary is not one
-   * cycle; an edge in other than two of the label's triangles makes both its ends so). The relabelling changes
-   * labels around the vertices it worked on only, so after it this costs a few stars instead of a walk over the
-   * whole mesh. `numberOfBoundaryVertices` is carried over from that search. */
+  /** The same places, by the local link test (VertexLinks) at the vertices whose manifold test is due (see
+   * VertexData::manifoldCheckDue): those whose star changed since the last search, and those it found. The test
+   * depends on the star only, so the others keep the answer it gave, and this is what FindNonManifoldPlaces()
+   * finds (a vertex fails the link test for a label exactly when it offends that label's triangles: an edge in
+   * other than two of them makes both its ends fail it), at the cost of the changed stars instead of a walk over
+   * the whole mesh. Every vertex is due at first, so the first search looks at all of them. */
   NonManifoldPlaces
-  NonManifoldPlacesAmong(std::vector<VertexHandle> candidates, std::size_t numberOfBoundaryVertices) const
+  FindNonManifoldPlacesWhereChanged() const
   {
-    const auto byId = [](VertexHandle a, VertexHandle b) { return a->info().id < b->info().id; };
-    std::sort(candidates.begin(), candidates.end(), byId);
-    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
-    const Triangulation &   triangulation = m_State.GetTriangulation();
+    const Triangulation &     triangulation = m_State.GetTriangulation();
+    std::vector<VertexHandle> due;
+    for (auto vertex = triangulation.finite_vertices_begin(); vertex != triangulation.finite_vertices_end(); ++vertex)
+    {
+      if (vertex->info().manifoldCheckDue)
+      {
+        vertex->info().manifoldCheckDue = false;
+        due.push_back(vertex);
+      }
+    }
+    // In insertion order, as FindNonManifoldPlaces() lists them.
+    std::sort(due.begin(), due.end(), [](VertexHandle a, VertexHandle b) { return a->info().id < b->info().id; });
     std::vector<CellHandle> star;
     NonManifoldPlaces       places;
-    places.numberOfBoundaryVertices = numberOfBoundaryVertices;
-    for (const VertexHandle vertex : candidates)
+    for (const VertexHandle vertex : due)
     {
       star.clear();
       triangulation.incident_cells(vertex, std::back_inserter(star));
@@ -149,6 +153,7 @@ public:
       {
         continue;
       }
+      vertex->info().manifoldCheckDue = true;
       const Vector3 point = m_State.PointOf(vertex);
       for (const Label label : labels)
       {
@@ -160,6 +165,22 @@ public:
     return places;
   }
 
+  /** How many vertices the tissues' boundaries have. */
+  std::size_t
+  CountBoundaryVertices() const
+  {
+    std::vector<VertexHandle> boundaryVertices;
+    m_Extraction.ForEachInterfaceFacet(m_Extraction.ObjectCells(), [&](CellHandle cell, int facet, Label) {
+      for (int corner = 0; corner < 3; ++corner)
+      {
+        boundaryVertices.push_back(cell->vertex(Triangulation::vertex_triple_index(facet, corner)));
+      }
+    });
+    std::sort(boundaryVertices.begin(), boundaryVertices.end());
+    return static_cast<std::size_t>(std::unique(boundaryVertices.begin(), boundaryVertices.end()) -
+                                    boundaryVertices.begin());
+  }
+
   /** Halves δ around every non-manifold place and refines again, up to manifoldRefinementLevels times and
    * never below minimumSurfaceSamplingDistance; all rules and guarantees stay as they are, with the local δ
    * (see LocalSampling). It mends isolated defects (a brain mask's one-voxel slit: 0.1 % of its boundary
@@ -167,10 +188,10 @@ public:
    * segmentation's) refining only resolves more speckle, so it is not tried. It ends because every round
    * halves δ where it refines and δ never goes below the floor. */
   static bool
-  IsRepairable(const NonManifoldPlaces & places)
+  IsRepairable(const NonManifoldPlaces & places, std::size_t numberOfBoundaryVertices)
   {
     return static_cast<double>(places.points.size()) <=
-           MaximumRepairableFraction * static_cast<double>(places.numberOfBoundaryVertices);
+           MaximumRepairableFraction * static_cast<double>(numberOfBoundaryVertices);
   }
 
   /** Halves δ once around each place, from its δ before this round (a place inside the zone just made for a

@@ -400,7 +400,8 @@ public:
   }
 
 private:
-  /** Caches first, then the hook: classifying a new cell looks at its neighbours' labels. */
+  /** Caches first, then the hook: classifying a new cell looks at its neighbours' labels. The corners' stars
+   * changed: their manifold test is due. */
   void
   AnnounceNewCells(const std::vector<CellHandle> & cells)
   {
@@ -409,6 +410,10 @@ private:
       if (!m_Triangulation.is_infinite(cell))
       {
         ComputeCache(cell);
+      }
+      for (int corner = 0; corner < 4; ++corner)
+      {
+        cell->vertex(corner)->info().manifoldCheckDue = true;
       }
     }
     m_NewCellsHook(cells);

@@ -371,9 +371,9 @@ private:
     m_Statistics.remainingNonManifoldVertices = places.places.size();
   }
 
-  /** The places found, relabelled where that mends them, and looked for again among the relabelled tetrahedra's
-   * corners when a move was made. The moves of the rounds before that the refinement left untouched are made again
-   * first. */
+  /** The places found, relabelled where that mends them, and found again when a move was made. The moves of the
+   * rounds before that the refinement left untouched are made again first. Each search looks at the vertices whose
+   * star changed since the one before, and those it found (ManifoldRepair::FindNonManifoldPlacesWhereChanged). */
   NonManifoldPlaces
   RelabelAndFindNonManifoldPlaces()
   {
@@ -381,14 +381,10 @@ private:
     {
       m_Relabelling.Replay();
     }
-    NonManifoldPlaces places = m_Repair.FindNonManifoldPlaces();
+    NonManifoldPlaces places = m_Repair.FindNonManifoldPlacesWhereChanged();
     if (m_Parameters.relabelNonManifoldPlaces && !places.vertices.empty() && m_Relabelling.Relabel(places.vertices) > 0)
     {
-      // Only the corners of the relabelled tetrahedra have new stars: the places are among them and those found.
-      std::vector<VertexHandle>         candidates = places.vertices;
-      const std::vector<VertexHandle> & corners = m_Relabelling.CornersOfRelabelled();
-      candidates.insert(candidates.end(), corners.begin(), corners.end());
-      places = m_Repair.NonManifoldPlacesAmong(std::move(candidates), places.numberOfBoundaryVertices);
+      places = m_Repair.FindNonManifoldPlacesWhereChanged();
     }
     return places;
   }
@@ -433,7 +429,8 @@ private:
   bool
   HalveDeltaAround(const NonManifoldPlaces & places)
   {
-    if (m_Parameters.manifoldRefinementLevels == 0 || !ManifoldRepair::IsRepairable(places))
+    if (m_Parameters.manifoldRefinementLevels == 0 ||
+        !ManifoldRepair::IsRepairable(places, m_Repair.CountBoundaryVertices()))
     {
       return false;
     }

@@ -70,7 +70,6 @@ public:
     const std::size_t changesBefore = m_Changes.size();
     m_Stars.clear();
     m_Counts.clear();
-    m_CornersOfRelabelled.clear();
     std::vector<VertexHandle> candidates;
     std::copy_if(nonManifoldVertices.begin(),
                  nonManifoldVertices.end(),
@@ -89,7 +88,6 @@ public:
       // Only the corners of changed tetrahedra have a new star: the next pass looks at those still offending.
       std::sort(touched.begin(), touched.end(), ById);
       touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-      m_CornersOfRelabelled.insert(m_CornersOfRelabelled.end(), touched.begin(), touched.end());
       candidates.clear();
       for (const VertexHandle vertex : touched)
       {
@@ -102,18 +100,7 @@ public:
     UnmarkCellsBackToTheirLabel();
     m_Stars.clear();
     m_Counts.clear();
-    std::sort(m_CornersOfRelabelled.begin(), m_CornersOfRelabelled.end(), ById);
-    m_CornersOfRelabelled.erase(std::unique(m_CornersOfRelabelled.begin(), m_CornersOfRelabelled.end()),
-                                m_CornersOfRelabelled.end());
     return m_Changes.size() - changesBefore;
-  }
-
-  /** The corners of the tetrahedra the last Relabel() changed, in insertion order: the only vertices whose star's
-   * labels it changed, so the only ones whose manifold test can give another answer. */
-  const std::vector<VertexHandle> &
-  CornersOfRelabelled() const
-  {
-    return m_CornersOfRelabelled;
   }
 
   /** Applies again, in their order, the moves undone by Revert() whose tetrahedra and face neighbours are all as
@@ -155,6 +142,7 @@ public:
       {
         change.cell->cache.label = change.originalLabel;
         change.cell->cache.relabelledForTopology = false;
+        MarkManifoldCheckDue(change.cell);
       }
     }
     m_Changes.clear();
@@ -224,11 +212,22 @@ private:
         cell->cache.relabelledForTopology = true;
       }
       cell->cache.label = label;
+      MarkManifoldCheckDue(cell);
       for (int corner = 0; corner < 4; ++corner)
       {
         touched.push_back(cell->vertex(corner));
         m_Counts.erase(&*cell->vertex(corner));
       }
+    }
+  }
+
+  /** The cell's label changed: its corners' stars did. */
+  static void
+  MarkManifoldCheckDue(CellHandle cell)
+  {
+    for (int corner = 0; corner < 4; ++corner)
+    {
+      cell->vertex(corner)->info().manifoldCheckDue = true;
     }
   }
 
@@ -625,12 +624,11 @@ private:
 
   static constexpr Label UnionKey = VertexLinks::UnionKey;
 
-  MeshState &               m_State;
-  const LocalSampling &     m_Sizing;
-  const double              m_RadiusEdgeBound;
-  const DihedralAngleBound  m_DihedralBound;
-  std::vector<Change>       m_Changes;
-  std::vector<VertexHandle> m_CornersOfRelabelled;
+  MeshState &              m_State;
+  const LocalSampling &    m_Sizing;
+  const double             m_RadiusEdgeBound;
+  const DihedralAngleBound m_DihedralBound;
+  std::vector<Change>      m_Changes;
   // The moves made since the relabelling began, in order, for Replay().
   std::vector<MoveMade> m_MovesMade;
   // The stars collected in the current pass (StarOf()), keyed by the vertex's address.

@@ -58,6 +58,10 @@ struct VertexData
   VertexId id{ 0 };
   /** Index in the output mesh, assigned during extraction. */
   uint32_t outputIndex{ NoOutputIndex };
+  /** Whether the manifold test must look at the vertex again (ManifoldRepair::FindNonManifoldPlacesWhereChanged):
+   * set for a new vertex, for the corners of every new cell or cell whose label changes, and for the vertices the
+   * last search found non-manifold. */
+  bool manifoldCheckDue{ true };
 };
 
 /** What every rule asks of a tetrahedron, computed once when the tetrahedron is created. */
