@@ -126,7 +126,7 @@ public:
    * depends on the star only, so the others keep the answer it gave, and this is what FindNonManifoldPlaces()
    * finds (a vertex fails the link test for a label exactly when it offends that label's triangles: an edge in
    * other than two of them makes both its ends fail it), at the cost of the changed stars instead of a walk over
-   * the whole mesh. Every vertex is due at first, so the first search looks at all of them. */
+   * the whole mesh. Every vertex is due at first, and a search where many are due walks the whole mesh instead. */
   NonManifoldPlaces
   FindNonManifoldPlacesWhereChanged() const
   {
@@ -139,6 +139,17 @@ public:
         vertex->info().manifoldCheckDue = false;
         due.push_back(vertex);
       }
+    }
+    // A vertex's link test costs about three times a vertex's share of the walk over the mesh (measured on the
+    // k-means tissues at 4.5 mm: 4 µs against 1.3 µs): with more vertices due than a third, the walk is cheaper.
+    if (LocalTestCostFactor * due.size() > triangulation.number_of_vertices())
+    {
+      NonManifoldPlaces places = FindNonManifoldPlaces();
+      for (const VertexHandle vertex : places.vertices)
+      {
+        vertex->info().manifoldCheckDue = true;
+      }
+      return places;
     }
     // In insertion order, as FindNonManifoldPlaces() lists them.
     std::sort(due.begin(), due.end(), [](VertexHandle a, VertexHandle b) { return a->info().id < b->info().id; });
@@ -284,6 +295,8 @@ private:
   /** Above this fraction of non-manifold boundary vertices the defects are pervasive, not local: see
    * IsRepairable(). Measured: brain mask 0.1 %, k-means segmentation 57-69 %. */
   static constexpr double MaximumRepairableFraction = 0.05;
+  /** How much more a vertex's link test costs than a vertex's share of FindNonManifoldPlaces()'s walk. */
+  static constexpr std::size_t LocalTestCostFactor = 3;
 
   const MeshState &      m_State;
   const MeshExtraction & m_Extraction;
