@@ -248,14 +248,34 @@ public:
       largestRadius = std::max(largestRadius, ball.radius);
     }
     SpatialGrid<std::size_t> centers(2.0 * largestRadius);
+    // The box around the balls: most cells are far from every ball, and one test of their circumball against it
+    // spares them the grid's lookups.
+    Vector3 lower = balls.front().center;
+    Vector3 upper = lower;
     for (std::size_t index = 0; index < balls.size(); ++index)
     {
       centers.Insert(balls[index].center, index);
+      for (int axis = 0; axis < 3; ++axis)
+      {
+        lower[axis] = std::min(lower[axis], balls[index].center[axis] - balls[index].radius);
+        upper[axis] = std::max(upper[axis], balls[index].center[axis] + balls[index].radius);
+      }
     }
     for (auto cell = m_State.GetTriangulation().finite_cells_begin();
          cell != m_State.GetTriangulation().finite_cells_end();
          ++cell)
     {
+      double squaredDistanceToBox = 0.0;
+      for (int axis = 0; axis < 3; ++axis)
+      {
+        const double outside =
+          std::max({ lower[axis] - cell->cache.circumcenter[axis], cell->cache.circumcenter[axis] - upper[axis], 0.0 });
+        squaredDistanceToBox += outside * outside;
+      }
+      if (!(squaredDistanceToBox < cell->cache.squaredRadius))
+      {
+        continue;
+      }
       const double radius = std::sqrt(cell->cache.squaredRadius);
       bool         meets = false;
       centers.ForEachWithin(cell->cache.circumcenter, radius + largestRadius, [&](std::size_t index) {
