@@ -26,12 +26,12 @@
 #include "DelaunayRefinementExtraction.h"
 #include "DelaunayRefinementMeshQuality.h"
 #include "DelaunayRefinementSizing.h"
-#include "DelaunayRefinementSpatialGrid.h"
 #include "DelaunayRefinementVertexLinks.h"
 
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
 #include <utility>
 #include <vector>
 
@@ -232,61 +232,61 @@ public:
    * again: R1 at the surface point closest to a circumcentre (inside the circumball), R2 at the circumcentre, R3
    * at a surface-ball centre on the Voronoi edge between two circumcentres (inside the union of the two
    * circumballs). So the cells whose circumball meets a changed ball, and their neighbours, are all that need
-   * another look; the rest of the mesh is not walked again. */
+   * another look; the rest of the mesh is not walked again.
+   *
+   * Those cells (finite, each once, sorted) are, for one ball, connected through facets: a cell meeting it has a point
+   * x of the ball in its circumball, so it is in x's conflict region, which is connected and holds the cell containing
+   * x, and the cells along the segment from the ball's centre to x all contain a point of the ball. So a walk from the
+   * cell containing the centre through the neighbours that meet the ball finds them all, at the cost of what it finds.
+   */
   std::vector<CellHandle>
   CellsMeeting(const std::vector<Ball> & balls) const
   {
+    const Triangulation &   triangulation = m_State.GetTriangulation();
     std::vector<CellHandle> meeting;
-    if (balls.empty())
-    {
-      return meeting;
-    }
-    // A grid of the balls' centres: thousands of balls against hundreds of thousands of cells.
-    double largestRadius = 0.0;
+    std::vector<CellHandle> front;
+    std::set<CellHandle>    seen;
     for (const Ball & ball : balls)
     {
-      largestRadius = std::max(largestRadius, ball.radius);
-    }
-    SpatialGrid<std::size_t> centers(2.0 * largestRadius);
-    // The box around the balls: most cells are far from every ball, and one test of their circumball against it
-    // spares them the grid's lookups.
-    Vector3 lower = balls.front().center;
-    Vector3 upper = lower;
-    for (std::size_t index = 0; index < balls.size(); ++index)
-    {
-      centers.Insert(balls[index].center, index);
-      for (int axis = 0; axis < 3; ++axis)
+      const auto meets = [&ball](CellHandle cell) {
+        return Distance(cell->cache.circumcenter, ball.center) < std::sqrt(cell->cache.squaredRadius) + ball.radius;
+      };
+      const CellHandle start = triangulation.locate(ToCgal(ball.center));
+      if (triangulation.is_infinite(start))
       {
-        lower[axis] = std::min(lower[axis], balls[index].center[axis] - balls[index].radius);
-        upper[axis] = std::max(upper[axis], balls[index].center[axis] + balls[index].radius);
-      }
-    }
-    for (auto cell = m_State.GetTriangulation().finite_cells_begin();
-         cell != m_State.GetTriangulation().finite_cells_end();
-         ++cell)
-    {
-      double squaredDistanceToBox = 0.0;
-      for (int axis = 0; axis < 3; ++axis)
-      {
-        const double outside =
-          std::max({ lower[axis] - cell->cache.circumcenter[axis], cell->cache.circumcenter[axis] - upper[axis], 0.0 });
-        squaredDistanceToBox += outside * outside;
-      }
-      if (!(squaredDistanceToBox < cell->cache.squaredRadius))
-      {
+        // Outside the box the refinement meshes (not where the repair puts its balls): every cell is looked at.
+        for (auto cell = triangulation.finite_cells_begin(); cell != triangulation.finite_cells_end(); ++cell)
+        {
+          if (meets(cell))
+          {
+            meeting.push_back(cell);
+          }
+        }
         continue;
       }
-      const double radius = std::sqrt(cell->cache.squaredRadius);
-      bool         meets = false;
-      centers.ForEachWithin(cell->cache.circumcenter, radius + largestRadius, [&](std::size_t index) {
-        meets = Distance(cell->cache.circumcenter, balls[index].center) < radius + balls[index].radius;
-        return !meets;
-      });
-      if (meets)
+      seen.clear();
+      front.assign(1, start);
+      seen.insert(start);
+      while (!front.empty())
       {
+        const CellHandle cell = front.back();
+        front.pop_back();
+        if (triangulation.is_infinite(cell) || !meets(cell))
+        {
+          continue;
+        }
         meeting.push_back(cell);
+        for (int facet = 0; facet < 4; ++facet)
+        {
+          if (seen.insert(cell->neighbor(facet)).second)
+          {
+            front.push_back(cell->neighbor(facet));
+          }
+        }
       }
     }
+    std::sort(meeting.begin(), meeting.end());
+    meeting.erase(std::unique(meeting.begin(), meeting.end()), meeting.end());
     return meeting;
   }
 
