@@ -38,7 +38,7 @@ namespace
 {
 
 constexpr double      Infinity = std::numeric_limits<double>::infinity();
-constexpr std::size_t NoSite = std::numeric_limits<std::size_t>::max();
+constexpr std::size_t NoVoxel = std::numeric_limits<std::size_t>::max();
 
 /** A box of voxels: lower corner and size, in the coordinates of the grid it is cut from. */
 struct VoxelBox
@@ -57,10 +57,14 @@ struct VoxelBox
  * after the pass along an axis, each voxel holds the nearest site among the voxels that differ from it along that
  * axis and the earlier ones only. The result is right at the sites and at the voxels asked for (AddQuery): a line
  * whose voxels are all sites, or hold no site yet, is the same after its pass, and the last pass skips the lines
- * without a voxel asked for. */
+ * without a voxel asked for. Sites are the voxels' indices in the box, as `TSite`: 32 bits where the box allows,
+ * which makes the transform's memory and its passes a third cheaper than 64. */
+template <typename TSite>
 class NearestSiteTransform
 {
 public:
+  static constexpr TSite NoSite = std::numeric_limits<TSite>::max();
+
   NearestSiteTransform(const VoxelBox & box, const Vector3 & spacing)
     : m_Box(box)
     , m_Spacing(spacing)
@@ -69,12 +73,12 @@ public:
     , m_LastPassLines(static_cast<std::size_t>(box.size[0] * box.size[1]), false)
   {}
 
-  /** Marks a site by its index in the box; `id` is what Site() returns for the voxels nearest to it. */
+  /** Marks the voxel at `index` in the box as a site. */
   void
-  AddSite(std::size_t index, std::size_t id)
+  AddSite(std::size_t index)
   {
     m_SquaredDistance[index] = 0.0;
-    m_Site[index] = id;
+    m_Site[index] = static_cast<TSite>(index);
   }
 
   /** Asks for the nearest site of the voxel at `index` in the box. */
@@ -122,7 +126,8 @@ public:
     return m_SquaredDistance[index];
   }
 
-  std::size_t
+  /** The index in the box of the site nearest to the voxel at `index`; NoSite when there is none. */
+  TSite
   Site(std::size_t index) const
   {
     return m_Site[index];
@@ -197,14 +202,14 @@ private:
     }
   }
 
-  VoxelBox                 m_Box;
-  Vector3                  m_Spacing;
-  std::vector<double>      m_SquaredDistance;
-  std::vector<std::size_t> m_Site;
+  VoxelBox            m_Box;
+  Vector3             m_Spacing;
+  std::vector<double> m_SquaredDistance;
+  std::vector<TSite>  m_Site;
   /** The lines of the last pass, by their voxel in the first slice, that hold a voxel asked for. */
   std::vector<bool>        m_LastPassLines;
   std::vector<double>      m_Line;
-  std::vector<std::size_t> m_LineSite;
+  std::vector<TSite>       m_LineSite;
   std::vector<std::size_t> m_Vertices;
   std::vector<double>      m_Boundaries;
 };
@@ -981,7 +986,7 @@ private:
     std::size_t       tries = 0;
     // The distance from the previous voxel to its nearest survivor (more than the search radius when none was
     // found): a survivor nearer than that less h to this voxel, its neighbour along x, would be nearer to it.
-    std::size_t previousVoxel = NoSite;
+    std::size_t previousVoxel = NoVoxel;
     double      previousDistance = 0.0;
     for (std::size_t index = 0; index < removedVoxels.size(); ++index)
     {
@@ -1089,9 +1094,22 @@ private:
                         const std::vector<bool> &                          removed,
                         std::vector<std::pair<std::size_t, std::size_t>> & nearest) const
   {
+    if (box.NumberOfVoxels() < std::numeric_limits<uint32_t>::max())
+    {
+      return NearestSurvivorsInBoxWith<uint32_t>(box, voxels, removed, nearest);
+    }
+    return NearestSurvivorsInBoxWith<std::size_t>(box, voxels, removed, nearest);
+  }
+
+  template <typename TSite>
+  bool
+  NearestSurvivorsInBoxWith(const VoxelBox & box, const std::vector<std::size_t> & voxels,
+                            const std::vector<bool> &                          removed,
+                            std::vector<std::pair<std::size_t, std::size_t>> & nearest) const
+  {
     Checkpoint();
-    NearestSiteTransform survivors(box, m_Spacing);
-    std::size_t          index = 0;
+    NearestSiteTransform<TSite> survivors(box, m_Spacing);
+    std::size_t                 index = 0;
     for (long k = 0; k < box.size[2]; ++k)
     {
       for (long j = 0; j < box.size[1]; ++j)
@@ -1101,7 +1119,7 @@ private:
           const std::size_t offset = GridOffset(box.lower[0] + i, box.lower[1] + j, box.lower[2] + k);
           if (!removed[offset])
           {
-            survivors.AddSite(index, offset);
+            survivors.AddSite(index);
           }
         }
       }
@@ -1139,9 +1157,16 @@ private:
       {
         return false;
       }
-      if (survivors.Site(indexInBox) != NoSite)
+      const TSite site = survivors.Site(indexInBox);
+      if (site != NearestSiteTransform<TSite>::NoSite)
       {
-        nearest.emplace_back(voxel, survivors.Site(indexInBox));
+        const auto inBox = static_cast<std::size_t>(site);
+        const auto sizeX = static_cast<std::size_t>(box.size[0]);
+        const auto sizeY = static_cast<std::size_t>(box.size[1]);
+        nearest.emplace_back(voxel,
+                             GridOffset(box.lower[0] + static_cast<long>(inBox % sizeX),
+                                        box.lower[1] + static_cast<long>((inBox / sizeX) % sizeY),
+                                        box.lower[2] + static_cast<long>(inBox / (sizeX * sizeY))));
       }
     }
     return true;
