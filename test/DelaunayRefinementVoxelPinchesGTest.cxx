@@ -247,18 +247,49 @@ TEST(RemoveVoxelPinches, TwoTissuesAlongACurvedInterfaceKeepTheirVolumes)
   EXPECT_NEAR(static_cast<double>(after[1]), static_cast<double>(before[1]), 0.02 * static_cast<double>(before[1]));
 }
 
+/** xorshift64: the same numbers on every platform, unlike the standard distributions. */
+class XorShift
+{
+public:
+  explicit XorShift(uint64_t seed)
+    : m_State(seed)
+  {}
+
+  uint64_t
+  operator()()
+  {
+    m_State ^= m_State << 13;
+    m_State ^= m_State >> 7;
+    m_State ^= m_State << 17;
+    return m_State;
+  }
+
+private:
+  uint64_t m_State;
+};
+
+/** Inside the grid's background border, each voxel is a tissue (1 to `tissues`) with probability density / 10. */
+void
+FillWithSpeckle(Grid & grid, uint64_t density, uint64_t tissues, XorShift & next)
+{
+  for (std::size_t k = 1; k + 1 < grid.size[2]; ++k)
+  {
+    for (std::size_t j = 1; j + 1 < grid.size[1]; ++j)
+    {
+      for (std::size_t i = 1; i + 1 < grid.size[0]; ++i)
+      {
+        grid.At(i, j, k) = next() % 10 < density ? static_cast<Label>(1 + next() % tissues) : BackgroundLabel;
+      }
+    }
+  }
+}
+
 /** Random speckle of up to four tissues: every pinch of every label goes, no tissue voxel becomes background (so
  * with one tissue only background voxels change), and no label appears that was not there; the result is
  * deterministic and a second pass changes nothing. */
 TEST(RemoveVoxelPinches, RandomSpeckle)
 {
-  uint64_t   state = 20261124;
-  const auto next = [&state]() {
-    state ^= state << 13;
-    state ^= state >> 7;
-    state ^= state << 17;
-    return state;
-  };
+  XorShift    next(20261124);
   std::size_t totalChanged = 0;
   std::size_t tissueToTissue = 0;
   for (int gridNumber = 0; gridNumber < 80; ++gridNumber)
@@ -268,16 +299,7 @@ TEST(RemoveVoxelPinches, RandomSpeckle)
     Grid           grid = EmptyGrid({ { 3 + next() % 12, 3 + next() % 12, 3 + next() % 12 } });
     const uint64_t density = 1 + next() % 8;
     const uint64_t tissues = 1 + next() % 4;
-    for (std::size_t k = 1; k + 1 < grid.size[2]; ++k)
-    {
-      for (std::size_t j = 1; j + 1 < grid.size[1]; ++j)
-      {
-        for (std::size_t i = 1; i + 1 < grid.size[0]; ++i)
-        {
-          grid.At(i, j, k) = next() % 10 < density ? static_cast<Label>(1 + next() % tissues) : BackgroundLabel;
-        }
-      }
-    }
+    FillWithSpeckle(grid, density, tissues, next);
     const std::vector<Label> before = grid.labels;
     const std::set<Label>    present(before.begin(), before.end());
     const std::size_t        changedCount = RemoveVoxelPinches(grid.labels.data(), grid.size);
@@ -328,28 +350,13 @@ TEST(RemoveVoxelPinches, RandomSpeckle)
  * changes, ends where the whole-grid pass ends, leaves no pinch, and reports each change with the label it undoes. */
 TEST(RemoveVoxelPinches, AroundChangesEndsAsTheWholeGridPass)
 {
-  uint64_t   state = 20261126;
-  const auto next = [&state]() {
-    state ^= state << 13;
-    state ^= state >> 7;
-    state ^= state << 17;
-    return state;
-  };
+  XorShift    next(20261126);
   std::size_t pinchesMade = 0;
   for (int gridNumber = 0; gridNumber < 60; ++gridNumber)
   {
     Grid           grid = EmptyGrid({ { 6 + next() % 12, 6 + next() % 12, 6 + next() % 12 } });
     const uint64_t tissues = 1 + next() % 4;
-    for (std::size_t k = 1; k + 1 < grid.size[2]; ++k)
-    {
-      for (std::size_t j = 1; j + 1 < grid.size[1]; ++j)
-      {
-        for (std::size_t i = 1; i + 1 < grid.size[0]; ++i)
-        {
-          grid.At(i, j, k) = next() % 10 < 5 ? static_cast<Label>(1 + next() % tissues) : BackgroundLabel;
-        }
-      }
-    }
+    FillWithSpeckle(grid, 5, tissues, next);
     RemoveVoxelPinches(grid.labels.data(), grid.size);
     ASSERT_EQ(CountPinches(grid), 0u) << "grid " << gridNumber;
     // A few boxes of one to three voxels a side take one label, inside the background border.
