@@ -16,11 +16,9 @@
  *
  *=========================================================================*/
 #include "DelaunayImageToMeshVoxelComponents.h"
-#include "DelaunayImageToMeshVtkLabelImage.h"
 
-#include <vtkImageConnectivityFilter.h>
-#include <vtkImageData.h>
-#include <vtkNew.h>
+#include <array>
+#include <vector>
 
 namespace delaunay_refinement
 {
@@ -28,16 +26,63 @@ namespace delaunay_refinement
 std::size_t
 CountVoxelComponents(const LabelVolume & volume, Label label)
 {
-  vtkNew<vtkImageData> image;
-  FillPaddedImage(volume, image);
-  vtkNew<vtkImageConnectivityFilter> connectivity;
-  connectivity->SetInputData(image);
-  // The range is converted to the image's integer type: a margin such as label ± 0.5 would take in label - 1.
-  connectivity->SetScalarRange(label, label);
-  connectivity->SetExtractionModeToAllRegions();
-  connectivity->GenerateRegionExtentsOff();
-  connectivity->Update();
-  return static_cast<std::size_t>(connectivity->GetNumberOfExtractedRegions());
+  // The volume as the mesh sees it: one layer of background around it, so that the background's parts that reach
+  // the border are one component.
+  const std::array<std::size_t, 3> padded{ { volume.size[0] + 2, volume.size[1] + 2, volume.size[2] + 2 } };
+  const std::array<std::size_t, 3> strides{ { 1, padded[0], padded[0] * padded[1] } };
+  const auto                       labelAt = [&](std::size_t i, std::size_t j, std::size_t k) {
+    if (i == 0 || j == 0 || k == 0 || i + 1 == padded[0] || j + 1 == padded[1] || k + 1 == padded[2])
+    {
+      return BackgroundLabel;
+    }
+    return volume.labels[(i - 1) + volume.size[0] * ((j - 1) + volume.size[1] * (k - 1))];
+  };
+  std::vector<bool>                       visited(padded[0] * padded[1] * padded[2], false);
+  std::vector<std::array<std::size_t, 3>> front;
+  std::size_t                             components = 0;
+  for (std::size_t k = 0; k < padded[2]; ++k)
+  {
+    for (std::size_t j = 0; j < padded[1]; ++j)
+    {
+      for (std::size_t i = 0; i < padded[0]; ++i)
+      {
+        const std::size_t offset = i * strides[0] + j * strides[1] + k * strides[2];
+        if (visited[offset] || labelAt(i, j, k) != label)
+        {
+          continue;
+        }
+        // A new component: flood it through face neighbours.
+        ++components;
+        visited[offset] = true;
+        front.assign(1, { { i, j, k } });
+        while (!front.empty())
+        {
+          const std::array<std::size_t, 3> voxel = front.back();
+          front.pop_back();
+          for (int axis = 0; axis < 3; ++axis)
+          {
+            for (const int step : { -1, 1 })
+            {
+              std::array<std::size_t, 3> neighbor = voxel;
+              if ((step < 0 && neighbor[axis] == 0) || (step > 0 && neighbor[axis] + 1 == padded[axis]))
+              {
+                continue;
+              }
+              neighbor[axis] = step < 0 ? neighbor[axis] - 1 : neighbor[axis] + 1;
+              const std::size_t neighborOffset =
+                neighbor[0] * strides[0] + neighbor[1] * strides[1] + neighbor[2] * strides[2];
+              if (!visited[neighborOffset] && labelAt(neighbor[0], neighbor[1], neighbor[2]) == label)
+              {
+                visited[neighborOffset] = true;
+                front.push_back(neighbor);
+              }
+            }
+          }
+        }
+      }
+    }
+  }
+  return components;
 }
 
 } // namespace delaunay_refinement

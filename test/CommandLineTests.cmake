@@ -12,6 +12,15 @@ target_link_libraries(DelaunayImageToMeshCommandLineReportGTests
   PRIVATE DelaunayImageToMeshIO GTest::gtest GTest::gtest_main nlohmann_json::nlohmann_json)
 gtest_discover_tests(DelaunayImageToMeshCommandLineReportGTests DISCOVERY_TIMEOUT 120 PROPERTIES TIMEOUT 600)
 
+# The report's count of a lost tissue's pieces against VTK's image connectivity filter, an independent reference.
+find_package(VTK 9.1 COMPONENTS CommonCore CommonDataModel ImagingMorphological REQUIRED)
+add_executable(DelaunayImageToMeshVoxelComponentsGTests DelaunayImageToMeshVoxelComponentsGTest.cxx)
+target_include_directories(DelaunayImageToMeshVoxelComponentsGTests PRIVATE ${PROJECT_SOURCE_DIR}/src)
+target_link_libraries(DelaunayImageToMeshVoxelComponentsGTests
+  PRIVATE DelaunayImageToMeshIO ${VTK_LIBRARIES} GTest::gtest GTest::gtest_main)
+vtk_module_autoinit(TARGETS DelaunayImageToMeshVoxelComponentsGTests MODULES ${VTK_LIBRARIES})
+gtest_discover_tests(DelaunayImageToMeshVoxelComponentsGTests DISCOVERY_TIMEOUT 120 PROPERTIES TIMEOUT 600)
+
 # The program is built by examples/, which only the plain-CMake build adds (the remote-module path does not).
 if(COMMAND itk_module_add_library)
   return()
