@@ -265,7 +265,7 @@ ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlong(unsigned int axis,
                                                               SizeValueType endLine)
 {
   const auto &        size = m_LabelImage->GetBufferedRegion().GetSize();
-  const SizeValueType stride = axis == 0 ? 1 : axis == 1 ? size[0] : size[0] * size[1];
+  const SizeValueType stride = m_BufferStrides[axis];
   // A block is a line along `axis` for axis 0, a z-slice for axis 1, the whole image for axis 2.
   const SizeValueType blocks = m_NearestInterfaceVoxel.size() / (stride * size[axis]);
   LowerEnvelope       envelope(size[axis]);
@@ -290,7 +290,7 @@ ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlongLine(unsigned int a
   const auto &                 size = m_LabelImage->GetBufferedRegion().GetSize();
   const double                 step = m_LabelImage->GetSpacing()[axis];
   const SizeValueType          length = size[axis];
-  const SizeValueType          stride = axis == 0 ? 1 : axis == 1 ? size[0] : size[0] * size[1];
+  const SizeValueType          stride = m_BufferStrides[axis];
   const SizeValueType          lowerOffset = lineStart % stride;
   std::vector<double> &        height = envelope.height;
   std::vector<uint32_t> &      site = envelope.site;

@@ -49,6 +49,18 @@ struct NonManifoldPlaces
   /** The offending vertices, each once, in insertion order, and where they are. */
   std::vector<VertexHandle> vertices;
   std::vector<Vector3>      points;
+
+  /** Adds the place (vertex, label). A vertex's places are added one after the other. */
+  void
+  Add(VertexHandle vertex, const Vector3 & point, Label label)
+  {
+    places.push_back({ point, label });
+    if (vertices.empty() || vertices.back() != vertex)
+    {
+      vertices.push_back(vertex);
+      points.push_back(point);
+    }
+  }
 };
 
 /** Finds non-manifold places on the tissues' boundaries and refines δ around them. */
@@ -108,15 +120,9 @@ public:
       return std::make_pair(a.first->info().id, a.second) < std::make_pair(b.first->info().id, b.second);
     });
     NonManifoldPlaces places;
-    for (std::size_t i = 0; i < offending.size(); ++i)
+    for (const auto & [vertex, label] : offending)
     {
-      const Vector3 point = m_State.PointOf(offending[i].first);
-      places.places.push_back({ point, offending[i].second });
-      if (i == 0 || offending[i].first != offending[i - 1].first)
-      {
-        places.vertices.push_back(offending[i].first);
-        places.points.push_back(point);
-      }
+      places.Add(vertex, m_State.PointOf(vertex), label);
     }
     return places;
   }
@@ -168,10 +174,8 @@ public:
       const Vector3 point = m_State.PointOf(vertex);
       for (const Label label : labels)
       {
-        places.places.push_back({ point, label });
+        places.Add(vertex, point, label);
       }
-      places.vertices.push_back(vertex);
-      places.points.push_back(point);
     }
     return places;
   }
