@@ -25,6 +25,7 @@
 
 #include "DelaunayRefinementExtraction.h"
 #include "DelaunayRefinementMeshQuality.h"
+#include "DelaunayRefinementNonManifoldPlaces.h"
 #include "DelaunayRefinementSizing.h"
 #include "DelaunayRefinementVertexLinks.h"
 
@@ -39,29 +40,6 @@ namespace delaunay_refinement
 {
 namespace detail
 {
-
-/** Where the boundaries are not 2-manifolds. */
-struct NonManifoldPlaces
-{
-  /** Each offending boundary vertex with each label whose boundary it offends, in insertion order of the
-   * vertices, then by label. */
-  std::vector<NonManifoldPlace> places;
-  /** The offending vertices, each once, in insertion order, and where they are. */
-  std::vector<VertexHandle> vertices;
-  std::vector<Vector3>      points;
-
-  /** Adds the place (vertex, label). A vertex's places are added one after the other. */
-  void
-  Add(VertexHandle vertex, const Vector3 & point, Label label)
-  {
-    places.push_back({ point, label });
-    if (vertices.empty() || vertices.back() != vertex)
-    {
-      vertices.push_back(vertex);
-      points.push_back(point);
-    }
-  }
-};
 
 /** Finds non-manifold places on the tissues' boundaries and refines δ around them. */
 class ManifoldRepair

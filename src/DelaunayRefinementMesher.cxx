@@ -382,7 +382,7 @@ private:
       m_Relabelling.Replay();
     }
     NonManifoldPlaces places = m_Repair.FindNonManifoldPlacesWhereChanged();
-    if (m_Parameters.relabelNonManifoldPlaces && !places.vertices.empty() && m_Relabelling.Relabel(places.vertices) > 0)
+    if (m_Parameters.relabelNonManifoldPlaces && !places.vertices.empty() && m_Relabelling.Relabel(places) > 0)
     {
       places = m_Repair.FindNonManifoldPlacesWhereChanged();
     }

@@ -32,6 +32,7 @@
 
 #include "DelaunayRefinementGeometry.h"
 #include "DelaunayRefinementMeshState.h"
+#include "DelaunayRefinementNonManifoldPlaces.h"
 #include "DelaunayRefinementSizing.h"
 #include "DelaunayRefinementVertexLinks.h"
 
@@ -61,26 +62,30 @@ public:
   {}
 
   /** Relabels at the non-manifold places while a move removes some (the extracted mesh lists the tetrahedra that
-   * took another label), starting from `nonManifoldVertices` (ManifoldRepair::FindNonManifoldPlaces(), in
-   * insertion order: the same link test on the extracted triangles, so the whole mesh is not walked twice); only
-   * feature vertices are worked on. Returns how many tetrahedra it relabelled (0: nothing changed). */
+   * took another label), starting from `found`, what the search for them found with the labels as they are now
+   * (ManifoldRepair, in insertion order; its answers are every vertex's until a move changes the vertex's star,
+   * so the link tests are not made again); only feature vertices are worked on. Returns how many tetrahedra it
+   * relabelled (0: nothing changed). */
   std::size_t
-  Relabel(const std::vector<VertexHandle> & nonManifoldVertices)
+  Relabel(const NonManifoldPlaces & found)
   {
     const std::size_t changesBefore = m_Changes.size();
     m_Stars.clear();
-    m_Counts.clear();
+    m_NonManifoldLabels.clear();
+    for (std::size_t index = 0; index < found.vertices.size(); ++index)
+    {
+      m_NonManifoldLabels[&*found.vertices[index]] = { true, found.LabelsOf(index) };
+    }
     std::vector<VertexHandle> candidates;
-    std::copy_if(nonManifoldVertices.begin(),
-                 nonManifoldVertices.end(),
-                 std::back_inserter(candidates),
-                 [](VertexHandle vertex) { return vertex->info().kind == VertexKind::Feature; });
+    std::copy_if(found.vertices.begin(), found.vertices.end(), std::back_inserter(candidates), [](VertexHandle vertex) {
+      return vertex->info().kind == VertexKind::Feature;
+    });
     while (!candidates.empty())
     {
       std::vector<VertexHandle> touched;
       for (const VertexHandle vertex : candidates)
       {
-        if (CurrentNonManifoldLabelsAt(vertex) > 0)
+        if (!CurrentNonManifoldLabelsAt(vertex).empty())
         {
           RelabelBestAround(vertex, touched);
         }
@@ -91,7 +96,7 @@ public:
       candidates.clear();
       for (const VertexHandle vertex : touched)
       {
-        if (vertex->info().kind == VertexKind::Feature && CurrentNonManifoldLabelsAt(vertex) > 0)
+        if (vertex->info().kind == VertexKind::Feature && !CurrentNonManifoldLabelsAt(vertex).empty())
         {
           candidates.push_back(vertex);
         }
@@ -99,7 +104,7 @@ public:
     }
     UnmarkCellsBackToTheirLabel();
     m_Stars.clear();
-    m_Counts.clear();
+    m_NonManifoldLabels.clear();
     return m_Changes.size() - changesBefore;
   }
 
@@ -108,7 +113,9 @@ public:
    * after it): their new boundary facets, shapes and isolation are then what was checked, without the link tests
    * that make the relabelling's cost. The refinement between a Revert() and a Replay() changes the mesh near the
    * regularised places only, so most moves come back and Relabel() works on what is left. Returns how many
-   * tetrahedra it relabelled. */
+   * tetrahedra it relabelled. A tetrahedron that ends with the label it had before the Revert() leaves its
+   * corners' manifold test as it was (the refinement marks the corners of the tetrahedra it makes): after a
+   * replay that brings most moves back, the next search looks at the regularised places only. */
   std::size_t
   Replay()
   {
@@ -123,26 +130,34 @@ public:
       });
       if (cellsAsBefore && NeighborsAsAfter(move))
       {
+        for (const CellState & state : move.cells)
+        {
+          m_LabelsBeforeRevert.try_emplace(&*state.cell, state);
+        }
         Apply(move.cells, move.label, touched);
         m_MovesMade.push_back(move);
       }
     }
     UnmarkCellsBackToTheirLabel();
+    MarkCellsWhoseLabelChangedSinceRevert();
     return m_Changes.size() - changesBefore;
   }
 
   /** Gives every relabelled tetrahedron that still exists its label back (the oracle's at its circumcentre); the
-   * moves are remembered for Replay(). */
+   * moves are remembered for Replay(), which also marks the corners of the tetrahedra whose label this changed for
+   * good. */
   void
   Revert()
   {
+    MarkCellsWhoseLabelChangedSinceRevert();
     for (const Change & change : m_Changes)
     {
       if (change.cell->cache.stamp == change.stamp && change.cell->cache.relabelledForTopology)
       {
+        m_LabelsBeforeRevert.try_emplace(&*change.cell,
+                                         CellState{ change.cell, change.stamp, change.cell->cache.label });
         change.cell->cache.label = change.originalLabel;
         change.cell->cache.relabelledForTopology = false;
-        MarkManifoldCheckDue(change.cell);
       }
     }
     m_Changes.clear();
@@ -199,7 +214,7 @@ private:
   }
 
   /** The cells take `label`; each is marked and its original label kept for Revert(); their corners go to
-   * `touched`. */
+   * `touched`. Their corners' manifold test is the caller's to mark due. */
   void
   Apply(const std::vector<CellState> & cells, Label label, std::vector<VertexHandle> & touched)
   {
@@ -212,13 +227,28 @@ private:
         cell->cache.relabelledForTopology = true;
       }
       cell->cache.label = label;
-      MarkManifoldCheckDue(cell);
       for (int corner = 0; corner < 4; ++corner)
       {
         touched.push_back(cell->vertex(corner));
-        m_Counts.erase(&*cell->vertex(corner));
+        m_NonManifoldLabels[&*cell->vertex(corner)].known = false;
       }
     }
+  }
+
+  /** The tetrahedra that Revert() and Replay() changed, still as they were then, whose label now differs from
+   * the one before the Revert(): their corners' stars changed. */
+  void
+  MarkCellsWhoseLabelChangedSinceRevert()
+  {
+    for (const auto & entry : m_LabelsBeforeRevert)
+    {
+      const CellState & before = entry.second;
+      if (m_State.IsCurrent(before.cell, before.stamp) && before.cell->cache.label != before.label)
+      {
+        MarkManifoldCheckDue(before.cell);
+      }
+    }
+    m_LabelsBeforeRevert.clear();
   }
 
   /** The cell's label changed: its corners' stars did. */
@@ -250,25 +280,26 @@ private:
     return a->info().id < b->info().id;
   }
 
-  /** How many labels' boundaries are not a manifold at the vertex (VertexLinks). */
-  int
-  NonManifoldLabelsAt(VertexHandle vertex) const
-  {
-    return m_Links.NonManifoldLabelsAt(m_State.GetTriangulation(), vertex, StarOf(vertex));
-  }
-
-  /** The same with the labels as they are (no move being tried), remembered: it depends on the labels of the
-   * vertex's star only, so it stays true until a move relabels a cell of that star (RelabelBestAround forgets the
-   * corners of the cells it relabels). */
-  int
+  /** The labels whose boundaries are not a manifold at the vertex (VertexLinks), with the labels as they are (no
+   * move being tried), in increasing order. They depend on the labels of the vertex's star only: a vertex that the
+   * search did not list has none until a move relabels a cell of its star, and a vertex's labels, once tested, stay
+   * until then (Apply() forgets the corners of the cells it relabels). */
+  const std::vector<Label> &
   CurrentNonManifoldLabelsAt(VertexHandle vertex) const
   {
-    const auto [entry, isNew] = m_Counts.try_emplace(&*vertex, 0);
-    if (isNew)
+    static const std::vector<Label> none;
+    const auto                      found = m_NonManifoldLabels.find(&*vertex);
+    if (found == m_NonManifoldLabels.end())
     {
-      entry->second = NonManifoldLabelsAt(vertex);
+      return none;
     }
-    return entry->second;
+    KnownLabels & known = found->second;
+    if (!known.known)
+    {
+      known.labels = m_Links.ListNonManifoldLabelsAt(m_State.GetTriangulation(), vertex, StarOf(vertex));
+      known.known = true;
+    }
+    return known.labels;
   }
 
   /** The vertex's incident cells. A relabelling pass changes labels only, never the triangulation, and tries many
@@ -367,15 +398,33 @@ private:
     int before = 0;
     for (const VertexHandle corner : corners)
     {
-      before += CurrentNonManifoldLabelsAt(corner);
+      before += static_cast<int>(CurrentNonManifoldLabelsAt(corner).size());
     }
     if (before < needed)
     {
       return before;
     }
     // The corners non-manifold now first: a move that does not mend them is rejected after the fewest link tests.
-    std::stable_partition(
-      corners.begin(), corners.end(), [this](VertexHandle corner) { return CurrentNonManifoldLabelsAt(corner) > 0; });
+    std::stable_partition(corners.begin(), corners.end(), [this](VertexHandle corner) {
+      return !CurrentNonManifoldLabelsAt(corner).empty();
+    });
+    // Only the links of the labels the move takes cells from or gives them are tested again at its corners: the
+    // others stay as they are (VertexLinks::NonManifoldLabelsAmong).
+    std::vector<Label> changing{ move.label };
+    for (const CellHandle cell : move.cells)
+    {
+      changing.push_back(cell->cache.label);
+    }
+    std::sort(changing.begin(), changing.end());
+    changing.erase(std::unique(changing.begin(), changing.end()), changing.end());
+    std::vector<int> unchanging;
+    for (const VertexHandle corner : corners)
+    {
+      const std::vector<Label> & labels = CurrentNonManifoldLabelsAt(corner);
+      unchanging.push_back(static_cast<int>(std::count_if(labels.begin(), labels.end(), [&changing](Label label) {
+        return !std::binary_search(changing.begin(), changing.end(), label);
+      })));
+    }
     // The cells whose face neighbours change: the move's and their neighbours.
     std::vector<CellHandle> near = move.cells;
     for (const CellHandle cell : move.cells)
@@ -398,10 +447,12 @@ private:
     if ((move.label == BackgroundLabel || AreWellShaped(move.cells)) && CountIsolated(near) <= isolatedBefore &&
         NewBoundaryFacetsAreGood(move, oldLabels))
     {
-      int after = 0;
-      for (auto corner = corners.begin(); corner != corners.end() && before - after >= needed; ++corner)
+      const Triangulation & triangulation = m_State.GetTriangulation();
+      int                   after = 0;
+      for (std::size_t index = 0; index < corners.size() && before - after >= needed; ++index)
       {
-        after += NonManifoldLabelsAt(*corner);
+        after += unchanging[index] +
+                 m_Links.NonManifoldLabelsAmong(triangulation, corners[index], StarOf(corners[index]), changing);
       }
       gain = before - after;
     }
@@ -612,6 +663,10 @@ private:
     Apply(made.cells, best->label, touched);
     for (const CellState & state : made.cells)
     {
+      MarkManifoldCheckDue(state.cell);
+    }
+    for (const CellState & state : made.cells)
+    {
       for (int facet = 0; facet < 4; ++facet)
       {
         const CellHandle neighbor = state.cell->neighbor(facet);
@@ -629,13 +684,21 @@ private:
   const double             m_RadiusEdgeBound;
   const DihedralAngleBound m_DihedralBound;
   std::vector<Change>      m_Changes;
+  // The cells Revert() and Replay() relabelled since the last Revert(), with their labels before it.
+  std::unordered_map<const void *, CellState> m_LabelsBeforeRevert;
   // The moves made since the relabelling began, in order, for Replay().
   std::vector<MoveMade> m_MovesMade;
   // The stars collected in the current pass (StarOf()), keyed by the vertex's address.
   mutable std::unordered_map<const void *, std::vector<CellHandle>> m_Stars;
-  // The vertices' counts of non-manifold labels with the current labels (CurrentNonManifoldLabelsAt()).
-  mutable std::unordered_map<const void *, int> m_Counts;
-  VertexLinks                                   m_Links;
+  /** A vertex's non-manifold labels with the current labels, when `known`; to be tested again when not. */
+  struct KnownLabels
+  {
+    bool               known{ false };
+    std::vector<Label> labels;
+  };
+  // The vertices the search listed or a move changed the star of (CurrentNonManifoldLabelsAt()).
+  mutable std::unordered_map<const void *, KnownLabels> m_NonManifoldLabels;
+  VertexLinks                                           m_Links;
 };
 
 } // namespace detail

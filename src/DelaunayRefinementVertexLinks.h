@@ -48,7 +48,24 @@ public:
                       const std::vector<CellHandle> & star) const
   {
     int nonManifold = 0;
-    ForEachNonManifoldLabel(triangulation, vertex, star, [&nonManifold](Label) { ++nonManifold; });
+    ForEachNonManifoldLabel(triangulation, vertex, star, EveryLabel, [&nonManifold](Label) { ++nonManifold; });
+    return nonManifold;
+  }
+
+  /** How many of `labels` (in increasing order) have a boundary that is not a manifold at the vertex; the other
+   * labels' links are not built. A change of labels in the star changes the links of the labels it moves cells
+   * between only (and the union's, keyed by the background, only when one of them is the background). */
+  int
+  NonManifoldLabelsAmong(const Triangulation & triangulation, VertexHandle vertex, const std::vector<CellHandle> & star,
+                         const std::vector<Label> & labels) const
+  {
+    int nonManifold = 0;
+    ForEachNonManifoldLabel(
+      triangulation,
+      vertex,
+      star,
+      [&labels](Label label) { return std::binary_search(labels.begin(), labels.end(), label); },
+      [&nonManifold](Label) { ++nonManifold; });
     return nonManifold;
   }
 
@@ -58,17 +75,24 @@ public:
                           const std::vector<CellHandle> & star) const
   {
     std::vector<Label> labels;
-    ForEachNonManifoldLabel(triangulation, vertex, star, [&labels](Label label) { labels.push_back(label); });
+    ForEachNonManifoldLabel(
+      triangulation, vertex, star, EveryLabel, [&labels](Label label) { labels.push_back(label); });
     return labels;
   }
 
 private:
-  /** Calls visit(label) for each label whose link at the vertex is not empty and not one cycle, in increasing
-   * order. */
-  template <typename TVisit>
+  static bool
+  EveryLabel(Label)
+  {
+    return true;
+  }
+
+  /** Calls visit(label) for each label with tested(label) whose link at the vertex is not empty and not one cycle,
+   * in increasing order. */
+  template <typename TTested, typename TVisit>
   void
   ForEachNonManifoldLabel(const Triangulation & triangulation, VertexHandle vertex,
-                          const std::vector<CellHandle> & star, TVisit && visit) const
+                          const std::vector<CellHandle> & star, TTested && tested, TVisit && visit) const
   {
     // (label, link edge): a few dozen entries, so flat and sorted rather than a map of vectors.
     m_Links.clear();
@@ -98,15 +122,15 @@ private:
             edge[count++] = cell->vertex(corner);
           }
         }
-        if (label != BackgroundLabel)
+        if (label != BackgroundLabel && tested(label))
         {
           m_Links.push_back({ label, edge });
         }
-        if (other != BackgroundLabel)
+        if (other != BackgroundLabel && tested(other))
         {
           m_Links.push_back({ other, edge });
         }
-        if ((label == BackgroundLabel) != (other == BackgroundLabel))
+        if ((label == BackgroundLabel) != (other == BackgroundLabel) && tested(UnionKey))
         {
           m_Links.push_back({ UnionKey, edge });
         }
