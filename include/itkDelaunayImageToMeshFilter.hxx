@@ -222,7 +222,9 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
                                    [this] {
                                      this->UpdateProgress(0.0f);
                                      return !this->GetAbortGenerateData();
-                                   } };
+                                   },
+                                   std::min(this->GetNumberOfWorkUnits(),
+                                            this->GetMultiThreader()->GetMaximumNumberOfThreads()) };
   std::unique_ptr<ImageLabelOracle<InputImageType>> oraclePointer;
   try
   {

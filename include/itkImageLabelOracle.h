@@ -53,6 +53,9 @@ struct ImageLabelMapping
   double regularizationRadius{ 0.0 };
   /** Asked now and then during the regularisation: returning false aborts it (RefinementAborted). */
   std::function<bool()> keepGoing;
+  /** The set-up's passes over every voxel (the regularisation's distance transform, the nearest-interface map) run
+   * on up to this many threads; the result does not depend on it. The filter passes its number of work units. */
+  unsigned int numberOfThreads{ 1 };
 };
 
 /** \class ImageLabelOracle
@@ -209,6 +212,9 @@ private:
   };
   void
   PropagateNearestInterfaceAlong(unsigned int axis, SizeValueType firstLine, SizeValueType endLine);
+  /** The whole image's pass along `axis`, its lines shared among up to m_Mapping.numberOfThreads threads. */
+  void
+  PropagateNearestInterfaceAlongInParallel(unsigned int axis);
   void
   PropagateNearestInterfaceAlongLine(unsigned int axis, SizeValueType lineStart, LowerEnvelope & envelope);
   double

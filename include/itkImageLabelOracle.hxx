@@ -23,6 +23,7 @@
 #include "itkImageRegionConstIterator.h"
 #include "itkImageRegionConstIteratorWithIndex.h"
 #include "itkImageRegionIterator.h"
+#include "itkMultiThreaderBase.h"
 #include "itkNearestNeighborInterpolateImageFunction.h"
 
 #include <algorithm>
@@ -159,7 +160,8 @@ ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
                                             { kept.GetSize()[0], kept.GetSize()[1], kept.GetSize()[2] },
                                             { spacing[0], spacing[1], spacing[2] },
                                             m_Mapping.regularizationRadius,
-                                            m_Mapping.keepGoing);
+                                            m_Mapping.keepGoing,
+                                            m_Mapping.numberOfThreads);
     CountObjectVoxels();
   }
   if (m_Mapping.joinDiagonalVoxels && m_LabelsAreVoxelwise)
@@ -351,13 +353,44 @@ ImageLabelOracle<TInputImage>::BuildNearestInterfaceMap()
   const auto & size = m_LabelImage->GetBufferedRegion().GetSize();
   m_NearestInterfaceVoxel.assign(numberOfVoxels, std::numeric_limits<uint32_t>::max());
   MarkInterfaceVoxels(0, size[2]);
-  PropagateNearestInterfaceAlong(0, 0, size[1] * size[2]);
-  PropagateNearestInterfaceAlong(1, 0, size[2]);
+  PropagateNearestInterfaceAlongInParallel(0);
+  PropagateNearestInterfaceAlongInParallel(1);
   if (m_LabelsAreVoxelwise)
   {
     m_NearestInterfaceInSlices = m_NearestInterfaceVoxel;
   }
-  PropagateNearestInterfaceAlong(2, 0, 1);
+  PropagateNearestInterfaceAlongInParallel(2);
+}
+
+template <typename TInputImage>
+void
+ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlongInParallel(unsigned int axis)
+{
+  // Below this many voxels per thread, starting a thread costs more than it saves.
+  constexpr SizeValueType minimumVoxelsPerThread = 1 << 16;
+  const auto &            size = m_LabelImage->GetBufferedRegion().GetSize();
+  const SizeValueType     stride = m_BufferStrides[axis];
+  const SizeValueType     lines = m_NearestInterfaceVoxel.size() / size[axis];
+  const SizeValueType     ranges = std::max<SizeValueType>(
+    1, std::min<SizeValueType>(m_Mapping.numberOfThreads, m_NearestInterfaceVoxel.size() / minimumVoxelsPerThread));
+  const SizeValueType linesPerRange = (lines + ranges - 1) / ranges;
+  // Line `line` starts in block line / stride (a block: a line along x, a z-slice along y, the image along z), at
+  // line % stride in it: consecutive lines are next to each other along x wherever they cross it.
+  const auto propagate = [&](SizeValueType range) {
+    LowerEnvelope envelope(size[axis]);
+    for (SizeValueType line = range * linesPerRange; line < std::min(lines, (range + 1) * linesPerRange); ++line)
+    {
+      PropagateNearestInterfaceAlongLine(axis, (line / stride) * stride * size[axis] + line % stride, envelope);
+    }
+  };
+  if (ranges == 1)
+  {
+    propagate(0);
+    return;
+  }
+  const MultiThreaderBase::Pointer threader = MultiThreaderBase::New();
+  threader->SetNumberOfWorkUnits(static_cast<ThreadIdType>(ranges));
+  threader->ParallelizeArray(0, ranges, propagate, nullptr);
 }
 
 template <typename TInputImage>

@@ -24,6 +24,7 @@
 
 #include "DelaunayRefinementLabelRegularization.h"
 #include "DelaunayRefinementMesher.h"
+#include "DelaunayRefinementParallel.h"
 
 #include <algorithm>
 #include <cmath>
@@ -38,7 +39,10 @@ namespace delaunay_refinement
 namespace
 {
 
-constexpr double      Infinity = std::numeric_limits<double>::infinity();
+constexpr double Infinity = std::numeric_limits<double>::infinity();
+/** A flag per voxel of the grid, a byte each: the searches read them at random and the transform once per voxel,
+ * where unpacking bits costs more than the memory. */
+using VoxelFlags = std::vector<uint8_t>;
 constexpr std::size_t NoVoxel = std::numeric_limits<std::size_t>::max();
 
 /** A box of voxels: lower corner and size, in the coordinates of the grid it is cut from. */
@@ -90,10 +94,11 @@ public:
     m_LastPassLines[static_cast<std::size_t>(x + m_Box.size[0] * y)] = true;
   }
 
-  /** `checkpoint` is called before each pass. */
+  /** `checkpoint` is called before each pass. A pass's lines are independent: they are shared among up to
+   * `threads` threads, each line's result the same whichever thread computes it. */
   template <typename TCheckpoint>
   void
-  Compute(TCheckpoint && checkpoint)
+  Compute(TCheckpoint && checkpoint, std::size_t threads)
   {
     const std::array<std::size_t, 3> strides{
       { 1, static_cast<std::size_t>(m_Box.size[0]), static_cast<std::size_t>(m_Box.size[0] * m_Box.size[1]) }
@@ -105,24 +110,29 @@ public:
       const int         first = axis == 0 ? 1 : 0;
       const int         second = 3 - axis - first;
       const std::size_t length = static_cast<std::size_t>(m_Box.size[axis]);
-      m_Line.resize(length);
-      m_LineSite.resize(length);
-      for (long b = 0; b < m_Box.size[second]; ++b)
-      {
-        for (long a = 0; a < m_Box.size[first]; ++a)
-        {
-          const std::size_t start =
-            static_cast<std::size_t>(a) * strides[first] + static_cast<std::size_t>(b) * strides[second];
-          if (axis == 0)
-          {
-            TransformFirstLine(start, length, m_Spacing[0]);
-          }
-          else if (axis == 1 || m_LastPassLines[start])
-          {
-            TransformLine(start, strides[axis], length, m_Spacing[axis]);
-          }
-        }
-      }
+      const std::size_t voxelsPerRange = static_cast<std::size_t>(m_Box.size[first]) * length;
+      detail::ForEachRangeInParallel(static_cast<std::size_t>(m_Box.size[second]),
+                                     threads,
+                                     (MinimumVoxelsPerThread + voxelsPerRange - 1) / voxelsPerRange,
+                                     [&](std::size_t begin, std::size_t end) {
+                                       LineScratch scratch(length);
+                                       for (std::size_t b = begin; b < end; ++b)
+                                       {
+                                         for (long a = 0; a < m_Box.size[first]; ++a)
+                                         {
+                                           const std::size_t start =
+                                             static_cast<std::size_t>(a) * strides[first] + b * strides[second];
+                                           if (axis == 0)
+                                           {
+                                             TransformFirstLine(start, length, m_Spacing[0], scratch);
+                                           }
+                                           else if (axis == 1 || m_LastPassLines[start])
+                                           {
+                                             TransformLine(start, strides[axis], length, m_Spacing[axis], scratch);
+                                           }
+                                         }
+                                       }
+                                     });
     }
   }
 
@@ -140,21 +150,41 @@ public:
   }
 
 private:
+  /** Below this many voxels of a pass per thread, starting a thread costs more than it saves. */
+  static constexpr std::size_t MinimumVoxelsPerThread = 1 << 16;
+
+  /** One line's working space, a thread's own. */
+  struct LineScratch
+  {
+    explicit LineScratch(std::size_t length)
+      : line(length)
+      , lineSite(length)
+      , nextSite(length)
+    {}
+
+    std::vector<double>      line;
+    std::vector<TSite>       lineSite;
+    std::vector<std::size_t> vertices;
+    std::vector<double>      boundaries;
+    /** TransformFirstLine()'s: the first site at or after each voxel of the line. */
+    std::vector<std::size_t> nextSite;
+  };
+
   /** The pass along x, where every voxel is a site (0) or not yet reached (infinite): each voxel takes the nearer
    * of the sites before and after it on the line, the one before on a tie, which is what the lower envelope of
    * TransformLine() gives there at a fraction of its cost (no parabolas, no divisions). */
   void
-  TransformFirstLine(std::size_t start, std::size_t length, double spacing)
+  TransformFirstLine(std::size_t start, std::size_t length, double spacing, LineScratch & scratch)
   {
-    double * const squaredDistance = m_SquaredDistance.data() + start;
-    TSite * const  site = m_Site.data() + start;
-    constexpr auto none = std::numeric_limits<std::size_t>::max();
-    m_NextSite.resize(length);
-    std::size_t next = none;
+    std::vector<std::size_t> & nextSite = scratch.nextSite;
+    double * const             squaredDistance = m_SquaredDistance.data() + start;
+    TSite * const              site = m_Site.data() + start;
+    constexpr auto             none = std::numeric_limits<std::size_t>::max();
+    std::size_t                next = none;
     for (std::size_t x = length; x-- > 0;)
     {
       next = squaredDistance[x] == 0.0 ? x : next;
-      m_NextSite[x] = next;
+      nextSite[x] = next;
     }
     std::size_t previous = none;
     for (std::size_t x = 0; x < length; ++x)
@@ -164,7 +194,7 @@ private:
         previous = x;
         continue;
       }
-      const std::size_t after = m_NextSite[x];
+      const std::size_t after = nextSite[x];
       if (previous == none && after == none)
       {
         return; // no site on the line
@@ -179,50 +209,54 @@ private:
 
   /** The lower envelope of the parabolas (x - q h)² + f(q) over the line's finite values f(q). */
   void
-  TransformLine(std::size_t start, std::size_t stride, std::size_t length, double spacing)
+  TransformLine(std::size_t start, std::size_t stride, std::size_t length, double spacing, LineScratch & scratch)
   {
-    bool holdsASite = false;
-    bool holdsAVoxelAway = false;
+    std::vector<double> &      line = scratch.line;
+    std::vector<TSite> &       lineSite = scratch.lineSite;
+    std::vector<std::size_t> & vertices = scratch.vertices;
+    std::vector<double> &      boundaries = scratch.boundaries;
+    bool                       holdsASite = false;
+    bool                       holdsAVoxelAway = false;
     for (std::size_t q = 0; q < length; ++q)
     {
-      m_Line[q] = m_SquaredDistance[start + q * stride];
-      m_LineSite[q] = m_Site[start + q * stride];
-      holdsASite = holdsASite || m_Line[q] != Infinity;
-      holdsAVoxelAway = holdsAVoxelAway || m_Line[q] != 0.0;
+      line[q] = m_SquaredDistance[start + q * stride];
+      lineSite[q] = m_Site[start + q * stride];
+      holdsASite = holdsASite || line[q] != Infinity;
+      holdsAVoxelAway = holdsAVoxelAway || line[q] != 0.0;
     }
     if (!holdsASite || !holdsAVoxelAway)
     {
       return;
     }
-    m_Vertices.clear();
-    m_Boundaries.clear();
-    const auto height = [&](std::size_t q) { return m_Line[q] + (q * spacing) * (q * spacing); };
+    vertices.clear();
+    boundaries.clear();
+    const auto height = [&](std::size_t q) { return line[q] + (q * spacing) * (q * spacing); };
     for (std::size_t q = 0; q < length; ++q)
     {
       // A voxel at distance 0 is a site, its own nearest. Inside a run of them, only the run's ends can be nearest
       // to a voxel outside it: the sites strictly inside are left out (most voxels are sites).
-      if (m_Line[q] == Infinity ||
-          (m_Line[q] == 0.0 && q > 0 && q + 1 < length && m_Line[q - 1] == 0.0 && m_Line[q + 1] == 0.0))
+      if (line[q] == Infinity ||
+          (line[q] == 0.0 && q > 0 && q + 1 < length && line[q - 1] == 0.0 && line[q + 1] == 0.0))
       {
         continue;
       }
       double boundary = -Infinity;
-      while (!m_Vertices.empty())
+      while (!vertices.empty())
       {
-        const std::size_t last = m_Vertices.back();
+        const std::size_t last = vertices.back();
         boundary = (height(q) - height(last)) / (2.0 * spacing * static_cast<double>(q - last));
-        if (boundary > m_Boundaries.back())
+        if (boundary > boundaries.back())
         {
           break;
         }
-        m_Vertices.pop_back();
-        m_Boundaries.pop_back();
+        vertices.pop_back();
+        boundaries.pop_back();
         boundary = -Infinity;
       }
-      m_Vertices.push_back(q);
-      m_Boundaries.push_back(m_Vertices.size() == 1 ? -Infinity : boundary);
+      vertices.push_back(q);
+      boundaries.push_back(vertices.size() == 1 ? -Infinity : boundary);
     }
-    if (m_Vertices.empty())
+    if (vertices.empty())
     {
       return;
     }
@@ -230,18 +264,18 @@ private:
     for (std::size_t x = 0; x < length; ++x)
     {
       const double position = static_cast<double>(x) * spacing;
-      while (parabola + 1 < m_Vertices.size() && m_Boundaries[parabola + 1] < position)
+      while (parabola + 1 < vertices.size() && boundaries[parabola + 1] < position)
       {
         ++parabola;
       }
-      const std::size_t q = m_Vertices[parabola];
-      if (m_Line[x] == 0.0)
+      const std::size_t q = vertices[parabola];
+      if (line[x] == 0.0)
       {
         continue;
       }
       const double offset = (static_cast<double>(x) - static_cast<double>(q)) * spacing;
-      m_SquaredDistance[start + x * stride] = offset * offset + m_Line[q];
-      m_Site[start + x * stride] = m_LineSite[q];
+      m_SquaredDistance[start + x * stride] = offset * offset + line[q];
+      m_Site[start + x * stride] = lineSite[q];
     }
   }
 
@@ -250,13 +284,7 @@ private:
   std::vector<double> m_SquaredDistance;
   std::vector<TSite>  m_Site;
   /** The lines of the last pass, by their voxel in the first slice, that hold a voxel asked for. */
-  std::vector<bool>        m_LastPassLines;
-  std::vector<double>      m_Line;
-  std::vector<TSite>       m_LineSite;
-  std::vector<std::size_t> m_Vertices;
-  std::vector<double>      m_Boundaries;
-  /** TransformFirstLine()'s scratch: the first site at or after each voxel of the line. */
-  std::vector<std::size_t> m_NextSite;
+  std::vector<bool> m_LastPassLines;
 };
 
 /** The voxels within `radius` of a voxel centre (centre to centre, exact), as rows along x: for each (dy, dz), the
@@ -703,9 +731,10 @@ class LabelRegularizer
 {
 public:
   LabelRegularizer(Label * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing, double radius,
-                   const std::function<bool()> & keepGoing)
+                   const std::function<bool()> & keepGoing, unsigned int numberOfThreads)
     : m_Labels(labels)
     , m_KeepGoing(keepGoing)
+    , m_NumberOfThreads(std::max(1U, numberOfThreads))
     , m_Size(size)
     , m_Spacing(spacing)
     , m_Radius(radius)
@@ -934,7 +963,7 @@ private:
     }
     const std::vector<BallRow> erosionBall = BallRows(m_Reach, m_Spacing, longestOffset);
     const std::vector<BallRow> dilationBall = BallRows(m_DilationReach, m_Spacing, longestOffset);
-    std::vector<bool>          removed(m_NumberOfVoxels, false);
+    VoxelFlags                 removed(m_NumberOfVoxels, 0);
     std::vector<std::size_t>   removedVoxels;
     for (const auto & [label, statistics] : labels)
     {
@@ -971,7 +1000,7 @@ private:
         const long k = box.lower[2] + z;
         if (IsInGrid(i, j, k))
         {
-          removed[GridOffset(i, j, k)] = true;
+          removed[GridOffset(i, j, k)] = 1;
           removedVoxels.push_back(GridOffset(i, j, k));
         }
       });
@@ -1006,7 +1035,7 @@ private:
    * over a box around them. Either way the survivor is a nearest one; between survivors at exactly the same distance
    * the choice is deterministic. */
   std::vector<std::pair<std::size_t, Label>>
-  GiveRemovedVoxelsTheNearestSurvivorsLabel(const std::vector<bool> &        removed,
+  GiveRemovedVoxelsTheNearestSurvivorsLabel(const VoxelFlags &               removed,
                                             const std::vector<std::size_t> & removedVoxels) const
   {
     const double searchRadius = m_DilationReach + 2.0 * std::max({ m_Spacing[0], m_Spacing[1], m_Spacing[2] });
@@ -1137,8 +1166,7 @@ private:
    * survivor) grid offsets; false when a survivor outside the box might be nearer to one of them than the one
    * found. */
   bool
-  NearestSurvivorsInBox(const VoxelBox & box, const std::vector<std::size_t> & voxels,
-                        const std::vector<bool> &                          removed,
+  NearestSurvivorsInBox(const VoxelBox & box, const std::vector<std::size_t> & voxels, const VoxelFlags & removed,
                         std::vector<std::pair<std::size_t, std::size_t>> & nearest) const
   {
     if (m_NumberOfVoxels < std::numeric_limits<uint32_t>::max())
@@ -1150,8 +1178,7 @@ private:
 
   template <typename TSite>
   bool
-  NearestSurvivorsInBoxWith(const VoxelBox & box, const std::vector<std::size_t> & voxels,
-                            const std::vector<bool> &                          removed,
+  NearestSurvivorsInBoxWith(const VoxelBox & box, const std::vector<std::size_t> & voxels, const VoxelFlags & removed,
                             std::vector<std::pair<std::size_t, std::size_t>> & nearest) const
   {
     Checkpoint();
@@ -1186,7 +1213,7 @@ private:
     {
       throw std::logic_error("NearestSurvivorsInBox: the voxels are not removed voxels of the box in increasing order");
     }
-    survivors.Compute([this] { Checkpoint(); });
+    survivors.Compute([this] { Checkpoint(); }, m_NumberOfThreads);
     for (std::size_t query = 0; query < voxels.size(); ++query)
     {
       const auto & [indexInBox, toOutside] = inBoxAndToOutside[query];
@@ -1230,6 +1257,7 @@ private:
 
   Label *                       m_Labels;
   const std::function<bool()> & m_KeepGoing;
+  std::size_t                   m_NumberOfThreads;
   std::array<std::size_t, 3>    m_Size;
   Vector3                       m_Spacing;
   double                        m_Radius;
@@ -1241,9 +1269,9 @@ private:
 
 LabelRegularizationReport
 RegularizeLabels(Label * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing, double radius,
-                 const std::function<bool()> & keepGoing)
+                 const std::function<bool()> & keepGoing, unsigned int numberOfThreads)
 {
-  return LabelRegularizer(labels, size, spacing, radius, keepGoing).Run();
+  return LabelRegularizer(labels, size, spacing, radius, keepGoing, numberOfThreads).Run();
 }
 
 } // namespace delaunay_refinement

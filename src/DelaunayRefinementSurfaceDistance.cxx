@@ -21,6 +21,7 @@
 // slow CGAL compilation is paid once.
 
 #include "DelaunayRefinementMeshQuality.h"
+#include "DelaunayRefinementParallel.h"
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -110,20 +111,7 @@ DistancesTo(const TriangleSurfaceDistance & surface, const std::vector<Vector3> 
       distances[i] = surface.Distance(queries[i]);
     }
   };
-  const std::size_t threads = std::max<std::size_t>(
-    1, std::min<std::size_t>(std::thread::hardware_concurrency(), queries.size() / MinimumQueriesPerThread));
-  const std::size_t        chunk = (queries.size() + threads - 1) / threads;
-  std::vector<std::thread> workers;
-  for (std::size_t thread = 1; thread < threads; ++thread)
-  {
-    workers.emplace_back(
-      fill, std::min(thread * chunk, queries.size()), std::min((thread + 1) * chunk, queries.size()));
-  }
-  fill(0, std::min(chunk, queries.size()));
-  for (std::thread & worker : workers)
-  {
-    worker.join();
-  }
+  detail::ForEachRangeInParallel(queries.size(), std::thread::hardware_concurrency(), MinimumQueriesPerThread, fill);
   return distances;
 }
 

@@ -25,6 +25,8 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <random>
+#include <string>
 #include <thread>
 
 #include <time.h>
@@ -419,6 +421,36 @@ TEST(Determinism, TheSameFilterTwiceGivesTheSameMesh)
   filter->Update();
   ExpectIdentical(first, filter->GetRefinedMesh(), "second Update() of the same filter");
   ExpectIdentical(first, MeshOf(image, DeterminismDelta), "a fresh filter");
+}
+
+/** The set-up's passes over every voxel (the nearest-interface map, the regularisation's distance transform) are
+ * shared among the filter's work units: on 64³ voxels with a slab of speckle to regularise, one work unit and
+ * several must give the same mesh. */
+TEST(Determinism, TheNumberOfWorkUnitsDoesNotChangeTheMesh)
+{
+  const auto   image = MakeEllipsoidImage(64,
+                                        { { { { -8.0, 0.0, 0.0 } }, { { 18.0, 16.0, 20.0 } }, 1 },
+                                            { { { 5.0, 3.0, 0.0 } }, { { 13.0, 11.0, 16.0 } }, 2 },
+                                            { { { 16.0, -16.0, 18.0 } }, { { 8.0, 8.0, 8.0 } }, 3 } });
+  std::mt19937 random(64);
+  for (itk::ImageRegionIteratorWithIndex<ImageType> it(image, image->GetBufferedRegion()); !it.IsAtEnd(); ++it)
+  {
+    if (it.GetIndex()[2] >= 40 && it.GetIndex()[2] < 50)
+    {
+      it.Set(static_cast<ImageType::PixelType>(random() % 4));
+    }
+  }
+  auto reference = MakeFilter(image, 4.0);
+  reference->SetNumberOfWorkUnits(1);
+  reference->Update();
+  EXPECT_GT(reference->GetRegularizationReport().changedVoxels, 0U);
+  for (const itk::ThreadIdType workUnits : { 2U, 5U })
+  {
+    auto filter = MakeFilter(image, 4.0);
+    filter->SetNumberOfWorkUnits(workUnits);
+    filter->Update();
+    ExpectIdentical(reference->GetRefinedMesh(), filter->GetRefinedMesh(), std::to_string(workUnits) + " work units");
+  }
 }
 
 TEST(Determinism, TwoFiltersInTwoThreadsGiveTheSequentialMeshes)

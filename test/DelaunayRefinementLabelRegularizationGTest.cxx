@@ -353,5 +353,45 @@ TEST(LabelRegularization, AbortLeavesTheLabelsAsTheyWere)
   EXPECT_EQ(labels, grid.labels);
 }
 
+TEST(LabelRegularization, TheNumberOfThreadsDoesNotChangeTheResult)
+{
+  // Speckle of every label around two balls, on a grid large enough for several threads: the speckle goes, and
+  // the voxels deep in it, far from the balls and from the grid's outside, take the distance transform, whose
+  // passes the threads share.
+  const Size    size{ { 90, 80, 70 } };
+  const Vector3 spacing{ { 0.8, 1.0, 1.2 } };
+  Grid          grid{ size, spacing, std::vector<Label>(size[0] * size[1] * size[2], BackgroundLabel) };
+  std::mt19937  random(20261126);
+  for (Label & label : grid.labels)
+  {
+    label = static_cast<Label>(random() % 4);
+  }
+  for (long k = 0; k < static_cast<long>(size[2]); ++k)
+  {
+    for (long j = 0; j < static_cast<long>(size[1]); ++j)
+    {
+      for (long i = 0; i < static_cast<long>(size[0]); ++i)
+      {
+        const double first = grid.SquaredDistance(i - 20, j - 40, k - 35);
+        const double second = grid.SquaredDistance(i - 70, j - 30, k - 30);
+        Label &      label = grid.labels[static_cast<std::size_t>(i) +
+                                    size[0] * (static_cast<std::size_t>(j) + size[1] * static_cast<std::size_t>(k))];
+        label = first < 12.0 * 12.0 ? 1 : (second < 9.0 * 9.0 ? 2 : label);
+      }
+    }
+  }
+  std::vector<Label>              oneThread = grid.labels;
+  const LabelRegularizationReport report = RegularizeLabels(oneThread.data(), size, spacing, 1.5, {}, 1);
+  // Most of the speckle changes label: the transform had work to do.
+  EXPECT_GT(report.changedVoxels, grid.labels.size() / 2);
+  for (const unsigned int threads : { 2U, 3U, 8U })
+  {
+    std::vector<Label>              labels = grid.labels;
+    const LabelRegularizationReport threaded = RegularizeLabels(labels.data(), size, spacing, 1.5, {}, threads);
+    EXPECT_EQ(labels, oneThread) << threads << " threads";
+    EXPECT_EQ(threaded.changedVoxels, report.changedVoxels) << threads << " threads";
+  }
+}
+
 } // namespace
 } // namespace delaunay_refinement

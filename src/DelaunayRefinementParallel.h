@@ -1,0 +1,80 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef DelaunayRefinementParallel_h
+#define DelaunayRefinementParallel_h
+
+// Work over independent ranges on several threads, for the passes over every voxel (the regularisation's distance
+// transform) and the report's distances: each range's results are its own, so they do not depend on how many
+// threads there are.
+
+#include <algorithm>
+#include <cstddef>
+#include <exception>
+#include <thread>
+#include <vector>
+
+namespace delaunay_refinement
+{
+namespace detail
+{
+
+/** Calls work(begin, end) on consecutive ranges that cover [0, count), one per thread, on at most `threads`
+ * threads and with no range shorter than `minimumPerThread` (below that a thread costs more than it saves); the
+ * calling thread takes the first range. The calls must not depend on each other. Rethrows the first range's
+ * exception, if any, after every thread has ended. */
+template <typename TWork>
+void
+ForEachRangeInParallel(std::size_t count, std::size_t threads, std::size_t minimumPerThread, const TWork & work)
+{
+  const std::size_t used =
+    std::max<std::size_t>(1, std::min(threads, count / std::max<std::size_t>(minimumPerThread, 1)));
+  const std::size_t               chunk = (count + used - 1) / used;
+  std::vector<std::exception_ptr> errors(used);
+  const auto                      run = [&](std::size_t range) {
+    try
+    {
+      work(std::min(range * chunk, count), std::min((range + 1) * chunk, count));
+    }
+    catch (...)
+    {
+      errors[range] = std::current_exception();
+    }
+  };
+  std::vector<std::thread> workers;
+  for (std::size_t range = 1; range < used; ++range)
+  {
+    workers.emplace_back(run, range);
+  }
+  run(0);
+  for (std::thread & worker : workers)
+  {
+    worker.join();
+  }
+  for (const std::exception_ptr & error : errors)
+  {
+    if (error)
+    {
+      std::rethrow_exception(error);
+    }
+  }
+}
+
+} // namespace detail
+} // namespace delaunay_refinement
+
+#endif
