@@ -212,9 +212,14 @@ private:
   };
   void
   PropagateNearestInterfaceAlong(unsigned int axis, SizeValueType firstLine, SizeValueType endLine);
-  /** The whole image's pass along `axis`, its lines shared among up to m_Mapping.numberOfThreads threads. */
+  /** The whole image's pass along `axis`, its lines shared among the threads (InParallel()). */
   void
   PropagateNearestInterfaceAlongInParallel(unsigned int axis);
+  /** Calls work(first, end) on consecutive ranges covering [0, count) of items of `voxelsPerItem` voxels each, on
+   * up to m_Mapping.numberOfThreads threads (fewer for small images). The calls must not depend on each other. */
+  template <typename TWork>
+  void
+  InParallel(SizeValueType count, SizeValueType voxelsPerItem, const TWork & work) const;
   void
   PropagateNearestInterfaceAlongLine(unsigned int axis, SizeValueType lineStart, LowerEnvelope & envelope);
   double

@@ -352,7 +352,9 @@ ImageLabelOracle<TInputImage>::BuildNearestInterfaceMap()
   }
   const auto & size = m_LabelImage->GetBufferedRegion().GetSize();
   m_NearestInterfaceVoxel.assign(numberOfVoxels, std::numeric_limits<uint32_t>::max());
-  MarkInterfaceVoxels(0, size[2]);
+  // A slice range's marking writes its own slices only (see MarkInterfaceVoxels()).
+  InParallel(
+    size[2], size[0] * size[1], [this](SizeValueType first, SizeValueType end) { MarkInterfaceVoxels(first, end); });
   PropagateNearestInterfaceAlongInParallel(0);
   PropagateNearestInterfaceAlongInParallel(1);
   if (m_LabelsAreVoxelwise)
@@ -366,31 +368,40 @@ template <typename TInputImage>
 void
 ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlongInParallel(unsigned int axis)
 {
-  // Below this many voxels per thread, starting a thread costs more than it saves.
-  constexpr SizeValueType minimumVoxelsPerThread = 1 << 16;
-  const auto &            size = m_LabelImage->GetBufferedRegion().GetSize();
-  const SizeValueType     stride = m_BufferStrides[axis];
-  const SizeValueType     lines = m_NearestInterfaceVoxel.size() / size[axis];
-  const SizeValueType     ranges = std::max<SizeValueType>(
-    1, std::min<SizeValueType>(m_Mapping.numberOfThreads, m_NearestInterfaceVoxel.size() / minimumVoxelsPerThread));
-  const SizeValueType linesPerRange = (lines + ranges - 1) / ranges;
+  const auto &        size = m_LabelImage->GetBufferedRegion().GetSize();
+  const SizeValueType stride = m_BufferStrides[axis];
   // Line `line` starts in block line / stride (a block: a line along x, a z-slice along y, the image along z), at
   // line % stride in it: consecutive lines are next to each other along x wherever they cross it.
-  const auto propagate = [&](SizeValueType range) {
+  InParallel(m_NearestInterfaceVoxel.size() / size[axis], size[axis], [&](SizeValueType first, SizeValueType end) {
     LowerEnvelope envelope(size[axis]);
-    for (SizeValueType line = range * linesPerRange; line < std::min(lines, (range + 1) * linesPerRange); ++line)
+    for (SizeValueType line = first; line < end; ++line)
     {
       PropagateNearestInterfaceAlongLine(axis, (line / stride) * stride * size[axis] + line % stride, envelope);
     }
+  });
+}
+
+template <typename TInputImage>
+template <typename TWork>
+void
+ImageLabelOracle<TInputImage>::InParallel(SizeValueType count, SizeValueType voxelsPerItem, const TWork & work) const
+{
+  // Below this many voxels per thread, starting a thread costs more than it saves.
+  constexpr SizeValueType minimumVoxelsPerThread = 1 << 16;
+  const SizeValueType     ranges = std::max<SizeValueType>(
+    1, std::min<SizeValueType>({ m_Mapping.numberOfThreads, count * voxelsPerItem / minimumVoxelsPerThread, count }));
+  const SizeValueType perRange = (count + ranges - 1) / ranges;
+  const auto          run = [&](SizeValueType range) {
+    work(std::min(count, range * perRange), std::min(count, (range + 1) * perRange));
   };
   if (ranges == 1)
   {
-    propagate(0);
+    run(0);
     return;
   }
   const MultiThreaderBase::Pointer threader = MultiThreaderBase::New();
   threader->SetNumberOfWorkUnits(static_cast<ThreadIdType>(ranges));
-  threader->ParallelizeArray(0, ranges, propagate, nullptr);
+  threader->ParallelizeArray(0, ranges, run, nullptr);
 }
 
 template <typename TInputImage>

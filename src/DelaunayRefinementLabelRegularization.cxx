@@ -620,23 +620,37 @@ public:
         JoinOverlappingRuns(line - size[1], line, size[0]);
       }
     }
-    for (std::size_t run = 0; run < m_Runs.size(); ++run)
-    {
-      Statistics &              entry = m_Statistics[m_Runs[run].label];
-      const std::size_t         line = m_Runs[run].start / size[0];
-      const std::array<long, 3> first{ { static_cast<long>(m_Runs[run].start % size[0]),
-                                         static_cast<long>(line % size[1]),
-                                         static_cast<long>(line / size[1]) } };
-      for (int axis = 0; axis < 3; ++axis)
+    // Line by line, so that the coordinates need no divisions. A speckled grid has runs of a voxel or two: the
+    // entries of the usual labels, small non-negative numbers, are found in a table rather than in the map.
+    std::vector<Statistics *> entryOfSmallLabel(SmallLabels, nullptr);
+    const auto                entryOf = [&](Label label) {
+      if (label < 0 || label >= static_cast<Label>(SmallLabels))
       {
-        entry.lowest[axis] = std::min(entry.lowest[axis], first[axis]);
-        entry.highest[axis] = std::max(entry.highest[axis], first[axis]);
+        return &m_Statistics[label];
       }
-      entry.highest[0] = std::max(entry.highest[0], first[0] + static_cast<long>(m_Runs[run].length) - 1);
-      entry.voxels += m_Runs[run].length;
-      if (Find(run) == run)
+      Statistics *& entry = entryOfSmallLabel[static_cast<std::size_t>(label)];
+      entry = entry ? entry : &m_Statistics[label];
+      return entry;
+    };
+    for (std::size_t line = 0; line < lines; ++line)
+    {
+      const long j = static_cast<long>(line % size[1]);
+      const long k = static_cast<long>(line / size[1]);
+      for (std::size_t run = m_FirstRunOfLine[line]; run < m_FirstRunOfLine[line + 1]; ++run)
       {
-        ++entry.components;
+        Statistics * const entry = entryOf(m_Runs[run].label);
+        const long         i = static_cast<long>(m_Runs[run].start - line * size[0]);
+        entry->lowest[0] = std::min(entry->lowest[0], i);
+        entry->lowest[1] = std::min(entry->lowest[1], j);
+        entry->lowest[2] = std::min(entry->lowest[2], k);
+        entry->highest[0] = std::max(entry->highest[0], i + static_cast<long>(m_Runs[run].length) - 1);
+        entry->highest[1] = std::max(entry->highest[1], j);
+        entry->highest[2] = std::max(entry->highest[2], k);
+        entry->voxels += m_Runs[run].length;
+        if (Find(run) == run)
+        {
+          ++entry->components;
+        }
       }
     }
   }
@@ -674,6 +688,9 @@ public:
   }
 
 private:
+  /** Labels below this have their statistics' entry in a table while the grid is read. */
+  static constexpr std::size_t SmallLabels = 4096;
+
   struct Run
   {
     std::size_t start;
@@ -942,6 +959,59 @@ private:
     return boundary;
   }
 
+  /** The box a label is opened in: its bounding box with a voxel of margin; the grid with `backgroundMargin` for
+   * the background. A tissue's erosion and dilation change its own voxels only, from sources next to them (its
+   * outer boundary, its survivors next to a removed voxel): one voxel of margin holds them all. */
+  VoxelBox
+  OpeningBox(Label label, const LabelComponents::Statistics & statistics,
+             const std::array<long, 3> & backgroundMargin) const
+  {
+    VoxelBox box;
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      const long margin = label == BackgroundLabel ? backgroundMargin[axis] : 1;
+      const long lowest = label == BackgroundLabel ? 0 : statistics.lowest[axis];
+      const long highest = label == BackgroundLabel ? static_cast<long>(m_Size[axis]) - 1 : statistics.highest[axis];
+      box.lower[axis] = lowest - margin;
+      box.size[axis] = highest - lowest + 1 + 2 * margin;
+    }
+    return box;
+  }
+
+  /** Opens one label in `box`: flags its voxels that the opening removes in `removed` and appends their grid
+   * offsets to `removedVoxels`. */
+  void
+  OpenLabel(Label label, const VoxelBox & box, const std::vector<BallRow> & erosionBall,
+            const std::vector<BallRow> & dilationBall, VoxelFlags & removed,
+            std::vector<std::size_t> & removedVoxels) const
+  {
+    const BoxBits voxels = VoxelsOf(label, box);
+    BoxBits       eroded = DilateByBall(OuterBoundary(voxels), erosionBall);
+    eroded.Keep(voxels, false);
+    if (!eroded.Any())
+    {
+      return;
+    }
+    BoxBits kept = voxels;
+    kept.Keep(eroded, true);
+    // The nearest survivor of the erosion has a face neighbour that is not one (as above): the dilation of its
+    // survivors next to another voxel is the dilation of all of them, outside them.
+    BoxBits notKept = kept;
+    notKept.Invert();
+    BoxBits lost = eroded;
+    lost.Keep(DilateByBall(OuterBoundary(notKept), dilationBall), true);
+    lost.ForEachSet([&](long x, long y, long z) {
+      const long i = box.lower[0] + x;
+      const long j = box.lower[1] + y;
+      const long k = box.lower[2] + z;
+      if (IsInGrid(i, j, k))
+      {
+        removed[GridOffset(i, j, k)] = 1;
+        removedVoxels.push_back(GridOffset(i, j, k));
+      }
+    });
+  }
+
   /** Opens every label with the ball and returns the voxels whose label changes (grid offset, new label). The
    * nearest voxel of another label is always face-adjacent to a voxel of the first label (a step from it towards
    * the first voxel comes closer), so a label's erosion removes its voxels within the reach of its outer boundary.
@@ -963,47 +1033,29 @@ private:
     }
     const std::vector<BallRow> erosionBall = BallRows(m_Reach, m_Spacing, longestOffset);
     const std::vector<BallRow> dilationBall = BallRows(m_DilationReach, m_Spacing, longestOffset);
-    VoxelFlags                 removed(m_NumberOfVoxels, 0);
-    std::vector<std::size_t>   removedVoxels;
+    // A label's opening flags its own voxels only (a voxel has one label, and the flags are bytes): the labels
+    // are opened on the threads, the largest box first, each into its own list.
+    std::vector<std::pair<Label, VoxelBox>> toOpen;
     for (const auto & [label, statistics] : labels)
     {
-      Checkpoint();
-      VoxelBox box;
-      for (int axis = 0; axis < 3; ++axis)
-      {
-        // A tissue's erosion and dilation change its own voxels only, from sources next to them (its outer
-        // boundary, its survivors next to a removed voxel): one voxel of margin holds them all.
-        const long margin = label == BackgroundLabel ? backgroundMargin[axis] : 1;
-        const long lowest = label == BackgroundLabel ? 0 : statistics.lowest[axis];
-        const long highest = label == BackgroundLabel ? static_cast<long>(m_Size[axis]) - 1 : statistics.highest[axis];
-        box.lower[axis] = lowest - margin;
-        box.size[axis] = highest - lowest + 1 + 2 * margin;
-      }
-      const BoxBits voxels = VoxelsOf(label, box);
-      BoxBits       eroded = DilateByBall(OuterBoundary(voxels), erosionBall);
-      eroded.Keep(voxels, false);
-      if (!eroded.Any())
-      {
-        continue;
-      }
-      BoxBits kept = voxels;
-      kept.Keep(eroded, true);
-      // The nearest survivor of the erosion has a face neighbour that is not one (as above): the dilation of its
-      // survivors next to another voxel is the dilation of all of them, outside them.
-      BoxBits notKept = kept;
-      notKept.Invert();
-      BoxBits lost = eroded;
-      lost.Keep(DilateByBall(OuterBoundary(notKept), dilationBall), true);
-      lost.ForEachSet([&](long x, long y, long z) {
-        const long i = box.lower[0] + x;
-        const long j = box.lower[1] + y;
-        const long k = box.lower[2] + z;
-        if (IsInGrid(i, j, k))
-        {
-          removed[GridOffset(i, j, k)] = 1;
-          removedVoxels.push_back(GridOffset(i, j, k));
-        }
-      });
+      toOpen.emplace_back(label, OpeningBox(label, statistics, backgroundMargin));
+    }
+    std::stable_sort(toOpen.begin(), toOpen.end(), [](const auto & a, const auto & b) {
+      return a.second.NumberOfVoxels() > b.second.NumberOfVoxels();
+    });
+    VoxelFlags                            removed(m_NumberOfVoxels, 0);
+    std::vector<std::vector<std::size_t>> removedOfLabel(toOpen.size());
+    detail::ForEachIndexInParallel(
+      toOpen.size(),
+      m_NumberOfThreads,
+      [&](std::size_t index) {
+        OpenLabel(toOpen[index].first, toOpen[index].second, erosionBall, dilationBall, removed, removedOfLabel[index]);
+      },
+      [this] { Checkpoint(); });
+    std::vector<std::size_t> removedVoxels;
+    for (const std::vector<std::size_t> & ofLabel : removedOfLabel)
+    {
+      removedVoxels.insert(removedVoxels.end(), ofLabel.begin(), ofLabel.end());
     }
     if (removedVoxels.empty())
     {

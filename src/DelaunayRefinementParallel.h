@@ -18,11 +18,12 @@
 #ifndef DelaunayRefinementParallel_h
 #define DelaunayRefinementParallel_h
 
-// Work over independent ranges on several threads, for the passes over every voxel (the regularisation's distance
-// transform) and the report's distances: each range's results are its own, so they do not depend on how many
-// threads there are.
+// Work over independent ranges or pieces on several threads, for the passes over every voxel (the regularisation's
+// opening and distance transform) and the report's distances: each piece's results are its own, so they do not
+// depend on how many threads there are.
 
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <exception>
 #include <thread>
@@ -72,6 +73,38 @@ ForEachRangeInParallel(std::size_t count, std::size_t threads, std::size_t minim
       std::rethrow_exception(error);
     }
   }
+}
+
+/** Calls work(index) for every index in [0, count), on up to `threads` threads that each take the next index when
+ * they finish one (for pieces of work of very different sizes); the calling thread takes part and calls
+ * `onCallingThread()` before each index it takes (a check for an abort, which must not run elsewhere): when that
+ * throws, no index is started any more and the exception is rethrown once every thread has ended. The calls of
+ * work must not depend on each other. */
+template <typename TWork, typename TOnCallingThread>
+void
+ForEachIndexInParallel(std::size_t count, std::size_t threads, const TWork & work,
+                       const TOnCallingThread & onCallingThread)
+{
+  std::atomic<std::size_t> next{ 0 };
+  const std::size_t        used = std::max<std::size_t>(1, std::min(threads, count));
+  ForEachRangeInParallel(used, used, 1, [&](std::size_t range, std::size_t) {
+    for (std::size_t index = next++; index < count; index = next++)
+    {
+      if (range == 0)
+      {
+        try
+        {
+          onCallingThread();
+        }
+        catch (...)
+        {
+          next = count;
+          throw;
+        }
+      }
+      work(index);
+    }
+  });
 }
 
 } // namespace detail
