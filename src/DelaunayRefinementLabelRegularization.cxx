@@ -172,7 +172,8 @@ private:
 
   /** The pass along x, where every voxel is a site (0) or not yet reached (infinite): each voxel takes the nearer
    * of the sites before and after it on the line, the one before on a tie, which is what the lower envelope of
-   * TransformLine() gives there at a fraction of its cost (no parabolas, no divisions). */
+   * TransformLine() gives there in exact arithmetic, at a fraction of its cost (no parabolas, no divisions). A tie
+   * is two survivors at the same distance: either is a nearest one (RegularizeLabels' definition). */
   void
   TransformFirstLine(std::size_t start, std::size_t length, double spacing, LineScratch & scratch)
   {
