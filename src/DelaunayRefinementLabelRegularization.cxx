@@ -31,6 +31,7 @@
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <memory>
 #include <numeric>
 #include <stdexcept>
 
@@ -71,27 +72,37 @@ class NearestSiteTransform
 public:
   static constexpr TSite NoSite = std::numeric_limits<TSite>::max();
 
+  /** Every voxel of the box is to be set, as a site or not, before Compute(): the memory is not filled before
+   * (the caller's one pass over the box, which can be shared among threads, does it). */
   NearestSiteTransform(const VoxelBox & box, const Vector3 & spacing)
     : m_Box(box)
     , m_Spacing(spacing)
-    , m_SquaredDistance(box.NumberOfVoxels(), Infinity)
-    , m_Site(box.NumberOfVoxels(), NoSite)
-    , m_LastPassLines(static_cast<std::size_t>(box.size[0] * box.size[1]), false)
+    , m_SquaredDistance(new double[box.NumberOfVoxels()])
+    , m_Site(new TSite[box.NumberOfVoxels()])
+    , m_LastPassLines(static_cast<std::size_t>(box.size[0] * box.size[1]), 0)
   {}
 
-  /** Marks the voxel at `index` in the box as a site named `name` (not NoSite). */
+  /** Sets the voxel at `index` in the box as a site named `name` (not NoSite). */
   void
-  AddSite(std::size_t index, TSite name)
+  SetSite(std::size_t index, TSite name)
   {
     m_SquaredDistance[index] = 0.0;
     m_Site[index] = name;
   }
 
-  /** Asks for the nearest site of the voxels at (x, y) in every slice of the box. */
+  /** Sets the voxel at `index` in the box as not a site. */
   void
-  AddQueryLine(long x, long y)
+  SetNotSite(std::size_t index)
   {
-    m_LastPassLines[static_cast<std::size_t>(x + m_Box.size[0] * y)] = true;
+    m_SquaredDistance[index] = Infinity;
+    m_Site[index] = NoSite;
+  }
+
+  /** Asks for the nearest site of the voxels of the line at `line` (x + size x * y) in every slice of the box. */
+  void
+  AddQueryLine(std::size_t line)
+  {
+    m_LastPassLines[line] = 1;
   }
 
   /** `checkpoint` is called before each pass. A pass's lines are independent: they are shared among up to
@@ -178,8 +189,8 @@ private:
   TransformFirstLine(std::size_t start, std::size_t length, double spacing, LineScratch & scratch)
   {
     std::vector<std::size_t> & nextSite = scratch.nextSite;
-    double * const             squaredDistance = m_SquaredDistance.data() + start;
-    TSite * const              site = m_Site.data() + start;
+    double * const             squaredDistance = m_SquaredDistance.get() + start;
+    TSite * const              site = m_Site.get() + start;
     constexpr auto             none = std::numeric_limits<std::size_t>::max();
     std::size_t                next = none;
     for (std::size_t x = length; x-- > 0;)
@@ -280,12 +291,12 @@ private:
     }
   }
 
-  VoxelBox            m_Box;
-  Vector3             m_Spacing;
-  std::vector<double> m_SquaredDistance;
-  std::vector<TSite>  m_Site;
+  VoxelBox                  m_Box;
+  Vector3                   m_Spacing;
+  std::unique_ptr<double[]> m_SquaredDistance;
+  std::unique_ptr<TSite[]>  m_Site;
   /** The lines of the last pass, by their voxel in the first slice, that hold a voxel asked for. */
-  std::vector<bool> m_LastPassLines;
+  std::vector<uint8_t> m_LastPassLines;
 };
 
 /** The voxels within `radius` of a voxel centre (centre to centre, exact), as rows along x: for each (dy, dz), the
@@ -1238,46 +1249,103 @@ private:
     NearestSiteTransform<TSite> survivors(box, m_Spacing);
     // The box in grid order: its survivors are the sites, named by their grid offsets, and the voxels, which come in
     // the same order, are found in it with their place in the box and how far the box's sides that are not the
-    // grid's are from them (no divisions).
-    std::vector<std::pair<std::size_t, double>> inBoxAndToOutside;
-    inBoxAndToOutside.reserve(voxels.size());
-    std::size_t index = 0;
-    for (long k = 0; k < box.size[2]; ++k)
-    {
-      for (long j = 0; j < box.size[1]; ++j)
-      {
-        const std::size_t rowStart = GridOffset(box.lower[0], box.lower[1] + j, box.lower[2] + k);
-        for (long i = 0; i < box.size[0]; ++i, ++index)
+    // grid's are from them (no divisions). Slabs of slices are read on the threads: the voxels of a slab are a
+    // contiguous part of `voxels`, and each slab marks the lines it asks for in a list of its own.
+    const std::size_t sliceVoxels = static_cast<std::size_t>(box.size[0] * box.size[1]);
+    const std::size_t slabs = std::max<std::size_t>(
+      1,
+      std::min(
+        { m_NumberOfThreads, static_cast<std::size_t>(box.size[2]), box.NumberOfVoxels() / MinimumVoxelsPerThread }));
+    const std::size_t slicesPerSlab = (static_cast<std::size_t>(box.size[2]) + slabs - 1) / slabs;
+    const auto        firstVoxelOfSlice = [&](std::size_t slice) {
+      const std::size_t offset = GridOffset(box.lower[0], box.lower[1], box.lower[2] + static_cast<long>(slice));
+      return static_cast<std::size_t>(std::lower_bound(voxels.begin(), voxels.end(), offset) - voxels.begin());
+    };
+    std::vector<std::pair<std::size_t, double>> inBoxAndToOutside(voxels.size());
+    std::vector<std::vector<uint8_t>>           linesOfSlab(slabs);
+    std::vector<uint8_t>                        slabIsComplete(slabs, 0);
+    detail::ForEachIndexInParallel(
+      slabs,
+      slabs,
+      [&](std::size_t slab) {
+        const std::size_t      firstSlice = std::min(slab * slicesPerSlab, static_cast<std::size_t>(box.size[2]));
+        const std::size_t      endSlice = std::min(firstSlice + slicesPerSlab, static_cast<std::size_t>(box.size[2]));
+        std::size_t            query = firstVoxelOfSlice(firstSlice);
+        const std::size_t      endQuery = firstVoxelOfSlice(endSlice);
+        std::vector<uint8_t> & lines = linesOfSlab[slab];
+        lines.assign(sliceVoxels, 0);
+        std::size_t index = firstSlice * sliceVoxels;
+        for (long k = static_cast<long>(firstSlice); k < static_cast<long>(endSlice); ++k)
         {
-          const std::size_t offset = rowStart + static_cast<std::size_t>(i);
-          if (!removed[offset])
+          for (long j = 0; j < box.size[1]; ++j)
           {
-            survivors.AddSite(index, static_cast<TSite>(offset));
-          }
-          else if (inBoxAndToOutside.size() < voxels.size() && voxels[inBoxAndToOutside.size()] == offset)
-          {
-            survivors.AddQueryLine(i, j);
-            inBoxAndToOutside.emplace_back(index, DistanceToTheCutSides(box, { { i, j, k } }));
+            const std::size_t rowStart = GridOffset(box.lower[0], box.lower[1] + j, box.lower[2] + k);
+            for (long i = 0; i < box.size[0]; ++i, ++index)
+            {
+              const std::size_t offset = rowStart + static_cast<std::size_t>(i);
+              if (!removed[offset])
+              {
+                survivors.SetSite(index, static_cast<TSite>(offset));
+                continue;
+              }
+              survivors.SetNotSite(index);
+              if (query < endQuery && voxels[query] == offset)
+              {
+                lines[static_cast<std::size_t>(i + box.size[0] * j)] = 1;
+                inBoxAndToOutside[query++] = { index, DistanceToTheCutSides(box, { { i, j, k } }) };
+              }
+            }
           }
         }
-      }
-    }
-    if (inBoxAndToOutside.size() != voxels.size())
+        slabIsComplete[slab] = query == endQuery ? 1 : 0;
+      },
+      [] {});
+    if (firstVoxelOfSlice(0) != 0 || firstVoxelOfSlice(static_cast<std::size_t>(box.size[2])) != voxels.size() ||
+        std::find(slabIsComplete.begin(), slabIsComplete.end(), 0) != slabIsComplete.end())
     {
       throw std::logic_error("NearestSurvivorsInBox: the voxels are not removed voxels of the box in increasing order");
     }
+    for (const std::vector<uint8_t> & lines : linesOfSlab)
+    {
+      for (std::size_t line = 0; line < sliceVoxels; ++line)
+      {
+        if (lines[line])
+        {
+          survivors.AddQueryLine(line);
+        }
+      }
+    }
     survivors.Compute([this] { Checkpoint(); }, m_NumberOfThreads);
+    // The answers, read on the threads into their places, then listed in order.
+    std::vector<TSite>   answers(voxels.size());
+    std::vector<uint8_t> answeredInBox(slabs, 1);
+    detail::ForEachIndexInParallel(
+      slabs,
+      slabs,
+      [&](std::size_t slab) {
+        const std::size_t queriesPerSlab = (voxels.size() + slabs - 1) / slabs;
+        for (std::size_t query = slab * queriesPerSlab; query < std::min(voxels.size(), (slab + 1) * queriesPerSlab);
+             ++query)
+        {
+          const auto & [indexInBox, toOutside] = inBoxAndToOutside[query];
+          if (toOutside != Infinity && !(survivors.SquaredDistance(indexInBox) <= toOutside * toOutside))
+          {
+            answeredInBox[slab] = 0;
+            return;
+          }
+          answers[query] = survivors.Site(indexInBox);
+        }
+      },
+      [] {});
+    if (std::find(answeredInBox.begin(), answeredInBox.end(), 0) != answeredInBox.end())
+    {
+      return false;
+    }
     for (std::size_t query = 0; query < voxels.size(); ++query)
     {
-      const auto & [indexInBox, toOutside] = inBoxAndToOutside[query];
-      if (toOutside != Infinity && !(survivors.SquaredDistance(indexInBox) <= toOutside * toOutside))
+      if (answers[query] != NearestSiteTransform<TSite>::NoSite)
       {
-        return false;
-      }
-      const TSite site = survivors.Site(indexInBox);
-      if (site != NearestSiteTransform<TSite>::NoSite)
-      {
-        nearest.emplace_back(voxels[query], static_cast<std::size_t>(site));
+        nearest.emplace_back(voxels[query], static_cast<std::size_t>(answers[query]));
       }
     }
     return true;
@@ -1302,6 +1370,10 @@ private:
     }
     return distance;
   }
+
+  /** Below this many voxels of the transform's box per thread, reading it on more threads costs more than it
+   * saves. */
+  static constexpr std::size_t MinimumVoxelsPerThread = 1 << 16;
 
   /** How many offsets the searches for the nearest survivor may try per voxel of the removed voxels' box before
    * the transform takes over. A try costs about a twentieth of a voxel's three transform passes (measured: 4 ns
