@@ -52,9 +52,9 @@ namespace itk
  * interface triangles (TriangleCell) on the same points, oriented outwards from the tissue whose label is
  * their cell data; GetInterfaceLabels() gives the label on each side.
  *
- * Threads: the set-up's passes over every voxel (the oracle's nearest-interface map, the regularisation's distance
- * transform) run on min(GetNumberOfWorkUnits(), the threader's maximum number of threads) threads; the refinement
- * is sequential. The mesh is the same whatever the number of threads.
+ * Threads: the set-up's passes over every voxel (the oracle's nearest-interface map, the regularisation's opening
+ * and distance transform) run on min(GetNumberOfWorkUnits(), the threader's maximum number of threads) threads; the
+ * refinement is sequential. The mesh is the same whatever the number of threads.
  *
  * \ingroup DelaunayImageToMesh
  */

@@ -53,8 +53,9 @@ struct ImageLabelMapping
   double regularizationRadius{ 0.0 };
   /** Asked now and then during the regularisation: returning false aborts it (RefinementAborted). */
   std::function<bool()> keepGoing;
-  /** The set-up's passes over every voxel (the regularisation's distance transform, the nearest-interface map) run
-   * on up to this many threads; the result does not depend on it. The filter passes its number of work units. */
+  /** The set-up's passes over every voxel (the regularisation's opening and distance transform, the
+   * nearest-interface map) run on up to this many threads; the result does not depend on it. The filter passes its
+   * number of work units. */
   unsigned int numberOfThreads{ 1 };
 };
 
@@ -210,6 +211,7 @@ private:
     std::vector<SizeValueType> parabola;
     std::vector<double>        leftBoundary;
   };
+  /** The pass along `axis` on the lines firstLine..endLine - 1, numbered in memory order of their first voxel. */
   void
   PropagateNearestInterfaceAlong(unsigned int axis, SizeValueType firstLine, SizeValueType endLine);
   /** The whole image's pass along `axis`, its lines shared among the threads (InParallel()). */

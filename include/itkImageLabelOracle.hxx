@@ -268,15 +268,12 @@ ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlong(unsigned int axis,
 {
   const auto &        size = m_LabelImage->GetBufferedRegion().GetSize();
   const SizeValueType stride = m_BufferStrides[axis];
-  // A block is a line along `axis` for axis 0, a z-slice for axis 1, the whole image for axis 2.
-  const SizeValueType blocks = m_NearestInterfaceVoxel.size() / (stride * size[axis]);
   LowerEnvelope       envelope(size[axis]);
-  for (SizeValueType block = firstLine; block < std::min(endLine, blocks); ++block)
+  // Line `line` starts in block line / stride (a block: a line along x, a z-slice along y, the image along z), at
+  // line % stride in it: consecutive lines are next to each other along x wherever they cross it.
+  for (SizeValueType line = firstLine; line < endLine; ++line)
   {
-    for (SizeValueType lowerOffset = 0; lowerOffset < stride; ++lowerOffset)
-    {
-      PropagateNearestInterfaceAlongLine(axis, block * stride * size[axis] + lowerOffset, envelope);
-    }
+    PropagateNearestInterfaceAlongLine(axis, (line / stride) * stride * size[axis] + line % stride, envelope);
   }
 }
 
@@ -368,16 +365,9 @@ template <typename TInputImage>
 void
 ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlongInParallel(unsigned int axis)
 {
-  const auto &        size = m_LabelImage->GetBufferedRegion().GetSize();
-  const SizeValueType stride = m_BufferStrides[axis];
-  // Line `line` starts in block line / stride (a block: a line along x, a z-slice along y, the image along z), at
-  // line % stride in it: consecutive lines are next to each other along x wherever they cross it.
-  InParallel(m_NearestInterfaceVoxel.size() / size[axis], size[axis], [&](SizeValueType first, SizeValueType end) {
-    LowerEnvelope envelope(size[axis]);
-    for (SizeValueType line = first; line < end; ++line)
-    {
-      PropagateNearestInterfaceAlongLine(axis, (line / stride) * stride * size[axis] + line % stride, envelope);
-    }
+  const SizeValueType length = m_LabelImage->GetBufferedRegion().GetSize()[axis];
+  InParallel(m_NearestInterfaceVoxel.size() / length, length, [this, axis](SizeValueType first, SizeValueType end) {
+    PropagateNearestInterfaceAlong(axis, first, end);
   });
 }
 
@@ -421,8 +411,9 @@ ImageLabelOracle<TInputImage>::UpdateNearestInterfaceMap(const std::vector<SizeV
     std::copy(first, end, finalValues.begin());
     std::fill(first, end, std::numeric_limits<uint32_t>::max());
     MarkInterfaceVoxels(slice, slice + 1);
+    // The slice's lines along x, then along y (size[0] lines of the slice's block).
     PropagateNearestInterfaceAlong(0, slice * size[1], (slice + 1) * size[1]);
-    PropagateNearestInterfaceAlong(1, slice, slice + 1);
+    PropagateNearestInterfaceAlong(1, slice * size[0], (slice + 1) * size[0]);
     const auto inSlices = m_NearestInterfaceInSlices.begin() + static_cast<std::ptrdiff_t>(slice * sliceSize);
     for (SizeValueType column = 0; column < sliceSize; ++column)
     {

@@ -27,6 +27,7 @@
 #include "DelaunayRefinementParallel.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -44,6 +45,8 @@ constexpr double Infinity = std::numeric_limits<double>::infinity();
 /** A flag per voxel of the grid, a byte each: the searches read them at random and the transform once per voxel,
  * where unpacking bits costs more than the memory. */
 using VoxelFlags = std::vector<uint8_t>;
+/** Below this many voxels per thread, a pass over voxels on more threads costs more than it saves. */
+constexpr std::size_t MinimumVoxelsPerThread = 1 << 16;
 constexpr std::size_t NoVoxel = std::numeric_limits<std::size_t>::max();
 
 /** A box of voxels: lower corner and size, in the coordinates of the grid it is cut from. */
@@ -161,9 +164,6 @@ public:
   }
 
 private:
-  /** Below this many voxels of a pass per thread, starting a thread costs more than it saves. */
-  static constexpr std::size_t MinimumVoxelsPerThread = 1 << 16;
-
   /** One line's working space, a thread's own. */
   struct LineScratch
   {
@@ -632,36 +632,25 @@ public:
         JoinOverlappingRuns(line - size[1], line, size[0]);
       }
     }
-    // Line by line, so that the coordinates need no divisions. A speckled grid has runs of a voxel or two: the
-    // entries of the usual labels, small non-negative numbers, are found in a table rather than in the map.
-    std::vector<Statistics *> entryOfSmallLabel(SmallLabels, nullptr);
-    const auto                entryOf = [&](Label label) {
-      if (label < 0 || label >= static_cast<Label>(SmallLabels))
-      {
-        return &m_Statistics[label];
-      }
-      Statistics *& entry = entryOfSmallLabel[static_cast<std::size_t>(label)];
-      entry = entry ? entry : &m_Statistics[label];
-      return entry;
-    };
+    // Line by line, so that a run's coordinates need no divisions.
     for (std::size_t line = 0; line < lines; ++line)
     {
       const long j = static_cast<long>(line % size[1]);
       const long k = static_cast<long>(line / size[1]);
       for (std::size_t run = m_FirstRunOfLine[line]; run < m_FirstRunOfLine[line + 1]; ++run)
       {
-        Statistics * const entry = entryOf(m_Runs[run].label);
-        const long         i = static_cast<long>(m_Runs[run].start - line * size[0]);
-        entry->lowest[0] = std::min(entry->lowest[0], i);
-        entry->lowest[1] = std::min(entry->lowest[1], j);
-        entry->lowest[2] = std::min(entry->lowest[2], k);
-        entry->highest[0] = std::max(entry->highest[0], i + static_cast<long>(m_Runs[run].length) - 1);
-        entry->highest[1] = std::max(entry->highest[1], j);
-        entry->highest[2] = std::max(entry->highest[2], k);
-        entry->voxels += m_Runs[run].length;
+        Statistics & entry = m_Statistics[m_Runs[run].label];
+        const long   i = static_cast<long>(m_Runs[run].start - line * size[0]);
+        entry.lowest[0] = std::min(entry.lowest[0], i);
+        entry.lowest[1] = std::min(entry.lowest[1], j);
+        entry.lowest[2] = std::min(entry.lowest[2], k);
+        entry.highest[0] = std::max(entry.highest[0], i + static_cast<long>(m_Runs[run].length) - 1);
+        entry.highest[1] = std::max(entry.highest[1], j);
+        entry.highest[2] = std::max(entry.highest[2], k);
+        entry.voxels += m_Runs[run].length;
         if (Find(run) == run)
         {
-          ++entry->components;
+          ++entry.components;
         }
       }
     }
@@ -700,9 +689,6 @@ public:
   }
 
 private:
-  /** Labels below this have their statistics' entry in a table while the grid is read. */
-  static constexpr std::size_t SmallLabels = 4096;
-
   struct Run
   {
     std::size_t start;
@@ -1317,27 +1303,22 @@ private:
     }
     survivors.Compute([this] { Checkpoint(); }, m_NumberOfThreads);
     // The answers, read on the threads into their places, then listed in order.
-    std::vector<TSite>   answers(voxels.size());
-    std::vector<uint8_t> answeredInBox(slabs, 1);
-    detail::ForEachIndexInParallel(
-      slabs,
-      slabs,
-      [&](std::size_t slab) {
-        const std::size_t queriesPerSlab = (voxels.size() + slabs - 1) / slabs;
-        for (std::size_t query = slab * queriesPerSlab; query < std::min(voxels.size(), (slab + 1) * queriesPerSlab);
-             ++query)
+    std::vector<TSite> answers(voxels.size());
+    std::atomic<bool>  allInBox{ true };
+    detail::ForEachRangeInParallel(
+      voxels.size(), slabs, MinimumVoxelsPerThread, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t query = begin; query < end; ++query)
         {
           const auto & [indexInBox, toOutside] = inBoxAndToOutside[query];
           if (toOutside != Infinity && !(survivors.SquaredDistance(indexInBox) <= toOutside * toOutside))
           {
-            answeredInBox[slab] = 0;
+            allInBox = false;
             return;
           }
           answers[query] = survivors.Site(indexInBox);
         }
-      },
-      [] {});
-    if (std::find(answeredInBox.begin(), answeredInBox.end(), 0) != answeredInBox.end())
+      });
+    if (!allInBox)
     {
       return false;
     }
@@ -1370,10 +1351,6 @@ private:
     }
     return distance;
   }
-
-  /** Below this many voxels of the transform's box per thread, reading it on more threads costs more than it
-   * saves. */
-  static constexpr std::size_t MinimumVoxelsPerThread = 1 << 16;
 
   /** How many offsets the searches for the nearest survivor may try per voxel of the removed voxels' box before
    * the transform takes over. A try costs about a twentieth of a voxel's three transform passes (measured: 4 ns
