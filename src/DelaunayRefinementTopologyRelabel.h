@@ -26,10 +26,12 @@
 // fewer non-manifold (vertex, label) pairs at the corners of the changed tetrahedra (the only vertices whose star
 // changes) and every facet it puts on a boundary has its three corners on the surface (feature vertices) and its
 // angles above 30° and its circumradius below δ: the boundary stays made of surface samples and keeps the bounds
-// of R1 and R3. Each move lowers the number of non-manifold pairs, so the process ends. The changed tetrahedra no
+// of R1 and R3. With σ > 0 it gives a tissue no sliver, and leaves every sliver that R4′ left to the flat-cap step
+// a cap on the background. Each move lowers the number of non-manifold pairs, so the process ends. The changed tetrahedra no
 // longer carry the label at their circumcentre; they are marked, counted, exported, and given their label back before
 // the refinement resumes.
 
+#include "DelaunayRefinementFlatCaps.h"
 #include "DelaunayRefinementGeometry.h"
 #include "DelaunayRefinementMeshState.h"
 #include "DelaunayRefinementNonManifoldPlaces.h"
@@ -436,8 +438,9 @@ private:
     }
     std::sort(near.begin(), near.end());
     near.erase(std::unique(near.begin(), near.end()), near.end());
-    const std::size_t  isolatedBefore = CountIsolated(near);
-    std::vector<Label> oldLabels;
+    const std::size_t             isolatedBefore = CountIsolated(near);
+    const std::vector<CellHandle> sliverCaps = SliverCapsOnBackground(near, move.cells);
+    std::vector<Label>            oldLabels;
     for (const CellHandle cell : move.cells)
     {
       oldLabels.push_back(cell->cache.label);
@@ -445,7 +448,7 @@ private:
     }
     int gain = 0;
     if ((move.label == BackgroundLabel || AreWellShaped(move.cells)) && CountIsolated(near) <= isolatedBefore &&
-        NewBoundaryFacetsAreGood(move, oldLabels))
+        AreStillCapsOnBackground(sliverCaps) && NewBoundaryFacetsAreGood(move, oldLabels))
     {
       const Triangulation & triangulation = m_State.GetTriangulation();
       int                   after = 0;
@@ -474,6 +477,34 @@ private:
       return ReachesRadiusEdgeBound(cell->cache.squaredRadius, corners, m_RadiusEdgeBound) ||
              m_DihedralBound.IsSliver(corners);
     });
+  }
+
+  /** With σ > 0, the cells among `near` (not among `moved`) that are slivers R4′ leaves to the flat-cap step, as caps
+   * on the background (FlatCaps::IsCapOnBackground). A move must leave each a cap there: a neighbour relabelled
+   * from the background would make it part of the boundary that nothing peels or splits any more, an output
+   * tetrahedron below σ (found by the randomized suite once R4′ ran after the other rules). */
+  std::vector<CellHandle>
+  SliverCapsOnBackground(const std::vector<CellHandle> & near, const std::vector<CellHandle> & moved) const
+  {
+    std::vector<CellHandle> caps;
+    const Triangulation &   triangulation = m_State.GetTriangulation();
+    for (const CellHandle cell : near)
+    {
+      if (!triangulation.is_infinite(cell) && cell->cache.label != BackgroundLabel &&
+          std::find(moved.begin(), moved.end(), cell) == moved.end() &&
+          m_DihedralBound.IsSliver(m_State.CornersOf(cell)) && FlatCaps::IsCapOnBackground(m_State, cell))
+      {
+        caps.push_back(cell);
+      }
+    }
+    return caps;
+  }
+
+  bool
+  AreStillCapsOnBackground(const std::vector<CellHandle> & caps) const
+  {
+    return std::all_of(
+      caps.begin(), caps.end(), [this](CellHandle cell) { return FlatCaps::IsCapOnBackground(m_State, cell); });
   }
 
   /** How many of the cells carry a tissue's label that none of their face neighbours carries: a move must not make
