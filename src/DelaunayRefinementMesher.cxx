@@ -212,7 +212,8 @@ private:
     std::size_t processed = 0;
     while (!m_Queue.Empty())
     {
-      const QueueEntry entry = m_Queue.Pop();
+      QueueLevel       level = QueueLevel::Surface;
+      const QueueEntry entry = m_Queue.Pop(level);
       if (!IsAlive(entry))
       {
         ++m_Statistics.staleQueueEntries;
@@ -225,6 +226,15 @@ private:
       const std::optional<Action> action = m_Rules.FindApplicableRule(entry.cell);
       if (!action)
       {
+        continue;
+      }
+      // A sliver on a boundary waits, like the interior ones, until no other rule applies anywhere: split while
+      // the surface was still being sampled, its free vertex was mostly deleted again by a feature insertion nearby
+      // (measured with σ = 15°: the atlas phantom at 4 mm made 1,358 R4′ splits and deleted 830 vertices, 588 and
+      // 138 when they wait).
+      if (action->rule == Rule::R4Dihedral && level != QueueLevel::Sliver)
+      {
+        m_Queue.Push(QueueLevel::Sliver, entry);
         continue;
       }
       const bool inserted = Perform(*action, entry.cell);

@@ -18,9 +18,9 @@
 #ifndef DelaunayRefinementQueue_h
 #define DelaunayRefinementQueue_h
 
-// The refinement's work list (docs/algorithm.md, "Order of work"): the tetrahedra some rule may apply to, in two
-// levels (surface work before quality work), largest circumsphere first, ties broken by vertex ids so that the
-// order never depends on memory addresses.
+// The refinement's work list (docs/algorithm.md, "Order of work"): the tetrahedra some rule may apply to, in three
+// levels (surface work, then radius-edge work, then slivers), largest circumsphere first, ties broken by vertex ids
+// so that the order never depends on memory addresses.
 
 #include "DelaunayRefinementTriangulation.h"
 
@@ -36,11 +36,13 @@ namespace detail
 {
 
 /** Queue levels: surface work first (its feature insertions delete nearby free vertices, so quality work
- * done before it would be wasted), then quality work. */
+ * done before it would be wasted), then R4's radius-edge work, then R4′'s slivers, whose split points are chosen
+ * by the tetrahedra they make (SliverSplit): chosen among settled neighbours, they are not undone by later work. */
 enum class QueueLevel : int
 {
   Surface = 0,
-  Quality = 1
+  Quality = 1,
+  Sliver = 2
 };
 
 /** 40 bytes: popping sifts entries through a heap of hundreds of thousands of them. */
@@ -155,37 +157,48 @@ private:
   QueueEntryOrder         m_Before;
 };
 
-/** One heap per level, the surface level's emptied first: the level is then never compared. */
+/** One heap per level, each emptied before the next is looked at: the level is then never compared. */
 class RefinementQueue
 {
 public:
   void
   Push(QueueLevel level, const QueueEntry & entry)
   {
-    m_Levels[static_cast<int>(level)].Push(entry);
+    m_Levels[static_cast<std::size_t>(level)].Push(entry);
   }
 
   bool
   Empty() const
   {
-    return m_Levels[0].Empty() && m_Levels[1].Empty();
+    return std::all_of(m_Levels.begin(), m_Levels.end(), [](const FourAryHeap & heap) { return heap.Empty(); });
   }
 
   std::size_t
   Size() const
   {
-    return m_Levels[0].Size() + m_Levels[1].Size();
+    std::size_t size = 0;
+    for (const FourAryHeap & heap : m_Levels)
+    {
+      size += heap.Size();
+    }
+    return size;
   }
 
-  /** The next entry to process; the queue must not be empty. */
+  /** The next entry to process and its level; the queue must not be empty. */
   QueueEntry
-  Pop()
+  Pop(QueueLevel & level)
   {
-    return (m_Levels[0].Empty() ? m_Levels[1] : m_Levels[0]).Pop();
+    std::size_t index = 0;
+    while (m_Levels[index].Empty())
+    {
+      ++index;
+    }
+    level = static_cast<QueueLevel>(index);
+    return m_Levels[index].Pop();
   }
 
 private:
-  std::array<FourAryHeap, 2> m_Levels;
+  std::array<FourAryHeap, 3> m_Levels;
 };
 
 } // namespace detail

@@ -84,9 +84,12 @@ public:
     {
       return QueueLevel::Surface;
     }
-    if (cell->cache.label != BackgroundLabel && QualityRuleFor(cell))
+    if (cell->cache.label != BackgroundLabel)
     {
-      return QueueLevel::Quality;
+      if (const std::optional<Rule> rule = QualityRuleFor(cell))
+      {
+        return *rule == Rule::R4 ? QueueLevel::Quality : QueueLevel::Sliver;
+      }
     }
     return std::nullopt;
   }
