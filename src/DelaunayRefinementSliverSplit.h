@@ -223,9 +223,18 @@ private:
     }
     result.cosine = largestCosine;
     result.fault = Fault::Boundary;
-    if (!(largestCosine < best.cosine) && best.split.accepted && !best.split.changesBoundary)
+    // An accepted best is beaten only by an accepted candidate that leaves the boundary as it is while the best
+    // changes it, or that does as the best does with a larger angle (Ranked::IsBetterThan). A replaced cell of
+    // another label changes the boundary whatever the new labels are. When neither can happen, the labels (an
+    // oracle query each) are not asked for.
+    if (best.split.accepted)
     {
-      return result; // cannot beat the best, whatever its boundary does
+      const bool largerAngle = largestCosine < best.cosine;
+      const bool changesSurely = ReplacesAnotherLabel(sliver->cache.label);
+      if (best.split.changesBoundary ? changesSurely && !largerAngle : changesSurely || !largerAngle)
+      {
+        return result;
+      }
     }
     m_NewLabels.clear();
     for (const std::array<Vector3, 4> & corners : m_NewTetrahedra)
@@ -286,11 +295,18 @@ private:
   bool
   ChangesBoundary(Label sliverLabel) const
   {
-    return std::any_of(m_ConflictCells.begin(),
-                       m_ConflictCells.end(),
-                       [sliverLabel](CellHandle cell) { return cell->cache.label != sliverLabel; }) ||
+    return ReplacesAnotherLabel(sliverLabel) ||
            std::any_of(
              m_NewLabels.begin(), m_NewLabels.end(), [sliverLabel](Label label) { return label != sliverLabel; });
+  }
+
+  /** Whether the conflict region holds a cell whose label is not the sliver's. */
+  bool
+  ReplacesAnotherLabel(Label sliverLabel) const
+  {
+    return std::any_of(m_ConflictCells.begin(), m_ConflictCells.end(), [sliverLabel](CellHandle cell) {
+      return cell->cache.label != sliverLabel;
+    });
   }
 
   /** Whether every triangle that the insertion puts on a boundary (a facet whose two tetrahedra come to differ in
@@ -325,16 +341,14 @@ private:
         {
           std::swap(a, b);
         }
-        m_Edges.push_back({ a, b, index });
+        m_Edges.push_back({ a, b, a->info().id, b->info().id, index });
       }
     }
     // Each edge of the conflict region's boundary is on two of its facets; the triangle joining the new point to
     // it is on a boundary when their new tetrahedra differ in label.
-    const auto key = [](const EdgeOfFacet & edge) {
-      return std::make_tuple(edge.a->info().id, edge.b->info().id, edge.facet);
-    };
-    std::sort(
-      m_Edges.begin(), m_Edges.end(), [&key](const EdgeOfFacet & x, const EdgeOfFacet & y) { return key(x) < key(y); });
+    std::sort(m_Edges.begin(), m_Edges.end(), [](const EdgeOfFacet & x, const EdgeOfFacet & y) {
+      return std::tie(x.idA, x.idB, x.facet) < std::tie(y.idA, y.idB, y.facet);
+    });
     for (std::size_t index = 0; index + 1 < m_Edges.size(); ++index)
     {
       const EdgeOfFacet & edge = m_Edges[index];
@@ -358,11 +372,14 @@ private:
     return vertex->info().kind == VertexKind::Free;
   }
 
-  /** An edge of a facet of the conflict region's boundary, its ends by ascending vertex id. */
+  /** An edge of a facet of the conflict region's boundary, its ends by ascending vertex id; the ids are kept beside
+   * the handles so that sorting the edges does not read the vertices. */
   struct EdgeOfFacet
   {
     VertexHandle a;
     VertexHandle b;
+    VertexId     idA;
+    VertexId     idB;
     std::size_t  facet;
   };
 
