@@ -67,6 +67,8 @@ struct Options
   std::string meshDirectory;
   /** Empty = the images are not written. */
   std::string imageDirectory;
+  /** σ of the sliver-removal row (our filter with R4′, beside CGAL+perturb+exude); 0 leaves the row out. */
+  double sliverRemovalAngle{ 15.0 };
 };
 
 /** Parses the command line into `options` (CLI11); nullopt when it was parsed, else the exit code after --help or
@@ -91,6 +93,13 @@ ParseOptions(int argc, char * argv[], Options & options)
                 "image's own")
     ->delimiter(',');
   app.add_flag("--ours-only", options.oursOnly, "run our filter only (for profiling)");
+  app
+    .add_option("--min-dihedral",
+                options.sliverRemovalAngle,
+                "sigma in degrees of the sliver-removal row (our filter with --min-dihedral,\nbeside "
+                "CGAL+perturb+exude); 0 leaves the row out")
+    ->check(CLI::Range(0.0, 30.0))
+    ->capture_default_str();
   app.add_option("--data-dir", options.dataDirectory, "where ITK's example images are")->capture_default_str();
   app
     .add_option("--write-meshes",
@@ -246,13 +255,16 @@ RunCgalManifold(const LabelImage & image, CgalCriteria criteria, const dr::Label
 /** Everything measured for one image and δ. */
 struct BenchCase
 {
-  std::string        image;
-  double             delta{ 0.0 };
-  MesherRow          ours;
-  MesherRow          cgal;
-  MesherRow          cgalOptimized;
-  FacetDistanceMatch match;
-  double             floorSeconds{ 0.0 };
+  std::string image;
+  double      delta{ 0.0 };
+  MesherRow   ours;
+  MesherRow   cgal;
+  MesherRow   cgalOptimized;
+  /** Our filter with sliver removal at σ = sliverRemovalAngle degrees, when that is not 0. */
+  double                   sliverRemovalAngle{ 0.0 };
+  std::optional<MesherRow> oursSliverRemoval;
+  FacetDistanceMatch       match;
+  double                   floorSeconds{ 0.0 };
   /** CGAL with manifold(), one capped run (ResourceCap); its non-manifold edges, or why it has none. */
   std::optional<CappedCgalRun> cgalManifold;
 };
@@ -277,7 +289,7 @@ RunCase(const BenchImage & benchImage, double delta, const Options & options, co
   BenchCase          result;
   result.image = benchImage.name;
   result.delta = delta;
-  MesherRuns ours("ours", [&] { return RunOurFilter(image, delta); });
+  MesherRuns ours("ours", [&] { return RunOurFilter(image, delta, 0.0); });
   if (options.oursOnly)
   {
     for (int i = 0; i < options.runs; ++i)
@@ -297,6 +309,9 @@ RunCase(const BenchImage & benchImage, double delta, const Options & options, co
   optimizedCriteria.optimize = true;
   MesherRuns cgal("CGAL", [&] { return RunCgalMesh3(image, criteria); });
   MesherRuns cgalOptimized("CGAL+opt", [&] { return RunCgalMesh3(image, optimizedCriteria); });
+  const bool removesSlivers = options.sliverRemovalAngle > 0.0;
+  MesherRuns oursSliverRemoval("ours with sliver removal",
+                               [&] { return RunOurFilter(image, delta, options.sliverRemovalAngle); });
   // The meshers take turns, run by run: this machine's speed drifts over seconds (a shared host), and a drift
   // must not fall on one mesher's runs only.
   for (int i = 0; i < options.runs; ++i)
@@ -307,10 +322,19 @@ RunCase(const BenchImage & benchImage, double delta, const Options & options, co
     }
     cgal.RunOnce();
     cgalOptimized.RunOnce();
+    if (removesSlivers)
+    {
+      oursSliverRemoval.RunOnce();
+    }
   }
   result.ours = ours.Finish(volume);
   result.cgal = cgal.Finish(volume);
   result.cgalOptimized = cgalOptimized.Finish(volume);
+  if (removesSlivers)
+  {
+    result.sliverRemovalAngle = options.sliverRemovalAngle;
+    result.oursSliverRemoval = oursSliverRemoval.Finish(volume);
+  }
   result.floorSeconds = MedianBulkDelaunaySeconds(result.ours.mesh.points, options.runs);
   std::cerr << "  CGAL with manifold(), capped\n";
   result.cgalManifold = RunCgalManifold(image, criteria, volume);
@@ -390,6 +414,17 @@ PrintCase(const BenchCase & c, bool oursOnly)
             << QualityColumns(c.cgal) << " | | |\n";
   std::cout << prefix << "CGAL+perturb+exude | " << TimeColumns(c.cgalOptimized, false) << " | "
             << QualityColumns(c.cgalOptimized) << " | | |\n";
+  if (c.oursSliverRemoval)
+  {
+    const MesherRow & row = *c.oursSliverRemoval;
+    std::cout << prefix << "ours, σ = " << Format(c.sliverRemovalAngle, 0) << "° | " << TimeColumns(row, true) << " | "
+              << QualityColumns(row)
+              << " | vs CGAL+perturb+exude: " << Ratio(row.refinementSeconds, c.cgalOptimized.totalSeconds) << "; "
+              << Ratio(row.totalSeconds, c.cgalOptimized.totalSeconds) << "; "
+              << Ratio(row.refinementCpuSeconds, c.cgalOptimized.totalCpuSeconds) << "; "
+              << Ratio(row.totalCpuSeconds, c.cgalOptimized.totalCpuSeconds) << " | "
+              << Ratio(row.memoryBytes, c.cgalOptimized.memoryBytes) << " |\n";
+  }
   std::cout << prefix << "floor: bulk DT of our vertices | " << Format(c.floorSeconds, 3) << " | | | | "
             << c.ours.quality.vertices << " | | | | | | | | refine wall/floor "
             << Ratio(c.ours.refinementSeconds, c.floorSeconds) << "; refine cpu/floor "
@@ -428,6 +463,23 @@ PrintPairedRatios(const std::vector<BenchCase> & cases, int runs)
               << PairedRatios(c.ours.refinementCpuSecondsPerRun, c.cgal.totalCpuSecondsPerRun) << " | "
               << PairedRatios(c.ours.totalSecondsPerRun, c.cgal.totalSecondsPerRun) << " | "
               << PairedRatios(c.ours.totalCpuSecondsPerRun, c.cgal.totalCpuSecondsPerRun) << " |\n";
+  }
+  if (std::none_of(cases.begin(), cases.end(), [](const BenchCase & c) { return c.oursSliverRemoval.has_value(); }))
+  {
+    return;
+  }
+  std::cout << "\nours with sliver removal / CGAL+perturb+exude, the same way:\n\n"
+            << "| image | δ mm | σ ° | total wall | total cpu |\n"
+            << "|---|---|---|---|---|\n";
+  for (const BenchCase & c : cases)
+  {
+    if (c.oursSliverRemoval)
+    {
+      std::cout << "| " << c.image << " | " << Format(c.delta, 1) << " | " << Format(c.sliverRemovalAngle, 0) << " | "
+                << PairedRatios(c.oursSliverRemoval->totalSecondsPerRun, c.cgalOptimized.totalSecondsPerRun) << " | "
+                << PairedRatios(c.oursSliverRemoval->totalCpuSecondsPerRun, c.cgalOptimized.totalCpuSecondsPerRun)
+                << " |\n";
+    }
   }
 }
 
@@ -524,6 +576,10 @@ WriteCaseMeshes(const BenchCase & c, bool oursOnly, const std::string & director
   {
     dr::WriteTetrahedralMesh(c.cgal.mesh, prefix + "cgal.vtu");
     dr::WriteTetrahedralMesh(c.cgalOptimized.mesh, prefix + "cgal-optimized.vtu");
+    if (c.oursSliverRemoval)
+    {
+      dr::WriteTetrahedralMesh(c.oursSliverRemoval->mesh, prefix + "ours-sliver-removal.vtu");
+    }
   }
 }
 

@@ -199,7 +199,7 @@ ToTetrahedralMesh(const Complex & complex)
 } // namespace
 
 MesherOutput
-RunOurFilter(const LabelImage & image, double delta)
+RunOurFilter(const LabelImage & image, double delta, double minimumDihedralAngle)
 {
   using MeshType = itk::Mesh<double, 3>;
   using FilterType = itk::DelaunayImageToMeshFilter<LabelImage, MeshType>;
@@ -209,6 +209,7 @@ RunOurFilter(const LabelImage & image, double delta)
   filter->SetInput(&image);
   filter->SetSurfaceSamplingDistance(delta);
   filter->SetRadiusEdgeBound(2.0);
+  filter->SetMinimumDihedralAngle(minimumDihedralAngle);
   // The filter reports its first non-zero progress when the oracle's set-up is done.
   double setupCpuSeconds = -1.0;
   filter->AddObserver(itk::ProgressEvent(), [&](const itk::EventObject &) {

@@ -43,9 +43,10 @@ struct MesherOutput
   std::size_t peakResidentBytes{ 0 };
 };
 
-/** itk::DelaunayImageToMeshFilter with its defaults: nearest-neighbour oracle, ρ = 2, every non-zero label. */
+/** itk::DelaunayImageToMeshFilter with its defaults (nearest-neighbour oracle, ρ = 2, every non-zero label), and
+ * R4′ at `minimumDihedralAngle` degrees (0 = off, the default). */
 MesherOutput
-RunOurFilter(const LabelImage & image, double delta);
+RunOurFilter(const LabelImage & image, double delta, double minimumDihedralAngle);
 
 /** CGAL Mesh_3 criteria (0 disables a criterion). Facet angle 30° and radius-edge ratio 2 are fixed: they are
  * our mesher's guarantees. */

@@ -48,7 +48,7 @@ def solve_clamped_elasticity(msh, boundary_facets):
 
 
 def main(directory):
-    meshers = ["ours", "cgal", "cgal-optimized"]
+    meshers = ["ours", "ours-sliver-removal", "cgal", "cgal-optimized"]
 
     def order(path):
         image, delta, mesher = os.path.basename(path)[: -len(".vtu")].rsplit("_", 2)
