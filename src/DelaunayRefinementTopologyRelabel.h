@@ -27,9 +27,9 @@
 // changes) and every facet it puts on a boundary has its three corners on the surface (feature vertices) and its
 // angles above 30° and its circumradius below δ: the boundary stays made of surface samples and keeps the bounds
 // of R1 and R3. With σ > 0 it gives a tissue no sliver, and leaves every sliver that R4′ left to the flat-cap step
-// a cap on the background. Each move lowers the number of non-manifold pairs, so the process ends. The changed tetrahedra no
-// longer carry the label at their circumcentre; they are marked, counted, exported, and given their label back before
-// the refinement resumes.
+// a cap on the background. Each move lowers the number of non-manifold pairs, so the process ends. The changed
+// tetrahedra no longer carry the label at their circumcentre; they are marked, counted, exported, and given their
+// label back before the refinement resumes.
 
 #include "DelaunayRefinementFlatCaps.h"
 #include "DelaunayRefinementGeometry.h"
