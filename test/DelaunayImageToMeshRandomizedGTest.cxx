@@ -1022,16 +1022,30 @@ TEST(RandomizedRegression, FloatingPointCircumcentresOfNearlyFlatTetrahedra)
 }
 
 /** Each case must mesh, pass every check of the suite, and have no tetrahedron flat to rounding. */
-void
-ExpectMeshedWithoutFlatTetrahedra(const std::vector<std::pair<Family, uint64_t>> & cases)
+/** Each case must mesh and pass every check of the suite (σ's among them when the case has σ > 0); returns the
+ * reports. */
+std::vector<CaseReport>
+ExpectMeshedPassingEveryCheck(const std::vector<std::pair<Family, uint64_t>> & cases)
 {
+  std::vector<CaseReport> reports;
   for (const auto & [family, seed] : cases)
   {
     const RandomCase randomCase = MakeCase(family, seed);
-    const CaseReport report = RunCase(randomCase);
-    ASSERT_EQ(report.result.outcome, Outcome::Mesh) << Describe(randomCase) << ": " << report.result.message;
+    reports.push_back(RunCase(randomCase));
+    const CaseReport & report = reports.back();
+    EXPECT_EQ(report.result.outcome, Outcome::Mesh) << Describe(randomCase) << ": " << report.result.message;
     EXPECT_TRUE(report.problems.empty()) << Describe(randomCase) << ": " << report.problems.front();
-    EXPECT_EQ(report.result.flatTetrahedra, 0u) << Describe(randomCase);
+  }
+  return reports;
+}
+
+void
+ExpectMeshedWithoutFlatTetrahedra(const std::vector<std::pair<Family, uint64_t>> & cases)
+{
+  const std::vector<CaseReport> reports = ExpectMeshedPassingEveryCheck(cases);
+  for (std::size_t index = 0; index < cases.size(); ++index)
+  {
+    EXPECT_EQ(reports[index].result.flatTetrahedra, 0u) << Describe(MakeCase(cases[index].first, cases[index].second));
   }
 }
 
@@ -1057,6 +1071,16 @@ TEST(RandomizedRegression, FlatTetrahedraLeftAfterTheRefinementAreMovedAway)
                                       { Family::SheetsAndLines, 3000180 },
                                       { Family::SheetsAndLines, 3000227 },
                                       { Family::Mixed, 8000162 } });
+}
+
+/** Slivers that R4′ leaves to the flat-cap step, as caps on the background, must end peeled or split: once the slivers
+ * waited for every other rule, Mixed 8000216 (σ = 17.6°) kept one of 14.6°, because a relabelling move at a
+ * non-manifold place gave a background neighbour a tissue's label and nothing peeled or split it after that
+ * (docs/algorithm.md, "Topology", step 3). It must mesh and pass every check of the suite, σ's among them. */
+TEST(RandomizedRegression, SliversLeftAsCapsAreNotStrandedByTheRelabelling)
+{
+  ASSERT_GT(MakeCase(Family::Mixed, 8000216).settings.minimumDihedralAngle, 15.0) << "the case is no longer the one";
+  ExpectMeshedPassingEveryCheck({ { Family::Mixed, 8000216 } });
 }
 
 // ---- Known defects, pinned: when one is fixed its test fails, and the check it is excused from gets strict -----
