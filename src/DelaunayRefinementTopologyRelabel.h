@@ -466,16 +466,18 @@ private:
     return gain;
   }
 
-  /** Whether every cell's radius-edge ratio is below ρ and, when σ > 0, every dihedral angle at least σ: a
-   * background tetrahedron was never split for its shape, and one that takes a tissue's label is an output
-   * tetrahedron, which must keep the bounds (R4's and R4′'s tests, the first on the cached circumradius). */
+  /** Whether every cell's radius-edge ratio is below ρ, no cell is flat to rounding and, when σ > 0, every dihedral
+   * angle is at least σ: a background tetrahedron was never split for its shape, and one that takes a tissue's label
+   * is an output tetrahedron, which must keep the bounds (R4's and R4′'s tests, the first on the cached
+   * circumradius). A flat one has a small radius-edge ratio when its corners are nearly co-circular, so only the
+   * flatness test keeps it out (found by a wider randomized search: SaltAndPepper 2001483 at σ = 0 had three). */
   bool
   AreWellShaped(const std::vector<CellHandle> & cells) const
   {
     return std::none_of(cells.begin(), cells.end(), [this](CellHandle cell) {
       const std::array<Vector3, 4> corners = m_State.CornersOf(cell);
       return ReachesRadiusEdgeBound(cell->cache.squaredRadius, corners, m_RadiusEdgeBound) ||
-             m_DihedralBound.IsSliver(corners);
+             IsFlatToRounding(corners) || m_DihedralBound.IsSliver(corners);
     });
   }
 

@@ -1073,6 +1073,16 @@ TEST(RandomizedRegression, FlatTetrahedraLeftAfterTheRefinementAreMovedAway)
                                       { Family::Mixed, 8000162 } });
 }
 
+/** A tetrahedron flat to rounding on the background must not become a tissue's when the relabelling at non-manifold
+ * places moves it: its corners are nearly co-circular, so its radius-edge ratio is small, and only a flatness test
+ * keeps it out. A search over 1,500 cases per family (σ = 0 in all three) found SaltAndPepper 2001483 with three,
+ * Mixed 8000776 and 8001351 with one each. */
+TEST(RandomizedRegression, TheRelabellingGivesNoTissueAFlatTetrahedron)
+{
+  ExpectMeshedWithoutFlatTetrahedra(
+    { { Family::SaltAndPepper, 2001483 }, { Family::Mixed, 8000776 }, { Family::Mixed, 8001351 } });
+}
+
 /** Slivers that R4′ leaves to the flat-cap step, as caps on the background, must end peeled or split: once the slivers
  * waited for every other rule, Mixed 8000216 (σ = 17.6°) kept one of 14.6°, because a relabelling move at a
  * non-manifold place gave a background neighbour a tissue's label and nothing peeled or split it after that
