@@ -151,6 +151,13 @@ public:
     , m_CosineOfSigma(std::cos(DegreesToRadians(minimumDihedralAngle)))
   {}
 
+  /** Whether σ > 0: with σ = 0 no tetrahedron is a sliver. */
+  bool
+  IsOn() const
+  {
+    return m_IsOn;
+  }
+
   /** Whether a tetrahedron has a dihedral angle below σ (never while σ = 0). */
   bool
   IsSliver(const std::array<Vector3, 4> & corners) const

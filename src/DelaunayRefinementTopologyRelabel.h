@@ -489,12 +489,16 @@ private:
   SliverCapsOnBackground(const std::vector<CellHandle> & near, const std::vector<CellHandle> & moved) const
   {
     std::vector<CellHandle> caps;
-    const Triangulation &   triangulation = m_State.GetTriangulation();
+    if (!m_DihedralBound.IsOn())
+    {
+      return caps; // no sliver, so none left to the flat-cap step; this runs for every move tried
+    }
+    const Triangulation & triangulation = m_State.GetTriangulation();
     for (const CellHandle cell : near)
     {
       if (!triangulation.is_infinite(cell) && cell->cache.label != BackgroundLabel &&
-          std::find(moved.begin(), moved.end(), cell) == moved.end() &&
-          m_DihedralBound.IsSliver(m_State.CornersOf(cell)) && FlatCaps::IsCapOnBackground(m_State, cell))
+          m_DihedralBound.IsSliver(m_State.CornersOf(cell)) &&
+          std::find(moved.begin(), moved.end(), cell) == moved.end() && FlatCaps::IsCapOnBackground(m_State, cell))
       {
         caps.push_back(cell);
       }

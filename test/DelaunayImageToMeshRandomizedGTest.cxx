@@ -1021,7 +1021,6 @@ TEST(RandomizedRegression, FloatingPointCircumcentresOfNearlyFlatTetrahedra)
   }
 }
 
-/** Each case must mesh, pass every check of the suite, and have no tetrahedron flat to rounding. */
 /** Each case must mesh and pass every check of the suite (σ's among them when the case has σ > 0); returns the
  * reports. */
 std::vector<CaseReport>
@@ -1039,6 +1038,7 @@ ExpectMeshedPassingEveryCheck(const std::vector<std::pair<Family, uint64_t>> & c
   return reports;
 }
 
+/** Each case must mesh, pass every check of the suite, and have no tetrahedron flat to rounding. */
 void
 ExpectMeshedWithoutFlatTetrahedra(const std::vector<std::pair<Family, uint64_t>> & cases)
 {
