@@ -28,7 +28,8 @@
 //
 // Reproducing one case: DELAUNAY_RANDOMIZED_SEED=<seed> ./DelaunayImageToMeshRandomizedGTests
 //   --gtest_filter='*<Family>*' runs that seed alone and prints it. DELAUNAY_RANDOMIZED_CASES=<n> changes the
-// number of cases per family (longer soak runs).
+// number of cases per family (longer soak runs), and DELAUNAY_RANDOMIZED_FIRST_CASE=<k> skips the first k of each
+// family's seeds, so that a wider search goes on where an earlier one stopped instead of running its cases again.
 
 #include "DelaunayImageToMeshRandomizedChecks.h"
 
@@ -850,6 +851,13 @@ CasesPerFamily(std::size_t defaultCount)
   return text ? static_cast<std::size_t>(std::strtoull(text, nullptr, 10)) : defaultCount;
 }
 
+std::size_t
+FirstCase()
+{
+  const char * text = std::getenv("DELAUNAY_RANDOMIZED_FIRST_CASE");
+  return text ? static_cast<std::size_t>(std::strtoull(text, nullptr, 10)) : 0;
+}
+
 std::optional<uint64_t>
 OnlySeed()
 {
@@ -894,7 +902,7 @@ TEST_P(RandomizedImages, MeshMeetsEveryGuaranteeOrFailsAsDocumented)
   {
     for (std::size_t i = 0; i < CasesPerFamily(run.cases); ++i)
     {
-      seeds.push_back(firstSeed + i);
+      seeds.push_back(firstSeed + FirstCase() + i);
     }
   }
   FamilySummary & summary = SummaryOfTheRun()[run.family];
