@@ -438,7 +438,7 @@ private:
     }
     std::sort(near.begin(), near.end());
     near.erase(std::unique(near.begin(), near.end()), near.end());
-    const std::size_t             isolatedBefore = CountIsolated(near);
+    const std::vector<bool>       isolatedBefore = Isolated(near);
     const std::vector<CellHandle> sliverCaps = SliverCapsOnBackground(near, move.cells);
     std::vector<Label>            oldLabels;
     for (const CellHandle cell : move.cells)
@@ -447,7 +447,7 @@ private:
       cell->cache.label = move.label;
     }
     int gain = 0;
-    if ((move.label == BackgroundLabel || AreWellShaped(move.cells)) && CountIsolated(near) <= isolatedBefore &&
+    if ((move.label == BackgroundLabel || AreWellShaped(move.cells)) && IsolatesNone(near, isolatedBefore) &&
         AreStillCapsOnBackground(sliverCaps) && NewBoundaryFacetsAreGood(move, oldLabels))
     {
       const Triangulation & triangulation = m_State.GetTriangulation();
@@ -513,15 +513,16 @@ private:
       caps.begin(), caps.end(), [this](CellHandle cell) { return FlatCaps::IsCapOnBackground(m_State, cell); });
   }
 
-  /** How many of the cells carry a tissue's label that none of their face neighbours carries: a move must not make
-   * such one-tetrahedron components (nor leave a relabelled tetrahedron alone with its new label). */
-  std::size_t
-  CountIsolated(const std::vector<CellHandle> & cells) const
+  /** For each cell, whether it carries a tissue's label that none of its face neighbours carries: a one-tetrahedron
+   * component. */
+  std::vector<bool>
+  Isolated(const std::vector<CellHandle> & cells) const
   {
-    std::size_t isolated = 0;
-    for (const CellHandle cell : cells)
+    std::vector<bool> isolated(cells.size(), false);
+    for (std::size_t index = 0; index < cells.size(); ++index)
     {
-      const Label label = LabelOf(cell);
+      const CellHandle cell = cells[index];
+      const Label      label = LabelOf(cell);
       if (label == BackgroundLabel)
       {
         continue;
@@ -531,9 +532,27 @@ private:
       {
         shared = LabelOf(cell->neighbor(facet)) == label;
       }
-      isolated += shared ? 0 : 1;
+      isolated[index] = !shared;
     }
     return isolated;
+  }
+
+  /** Whether every cell isolated now (Isolated) was isolated before the move: a move makes no one-tetrahedron
+   * component, and leaves no relabelled tetrahedron alone with its new label. Comparing counts is not enough: a
+   * move that joined one isolated cell to a neighbour while isolating another would pass (found by a wider
+   * randomized search, SaltAndPepper 2002799: a relabelled tetrahedron with no neighbour of its label). */
+  bool
+  IsolatesNone(const std::vector<CellHandle> & cells, const std::vector<bool> & isolatedBefore) const
+  {
+    const std::vector<bool> isolatedAfter = Isolated(cells);
+    for (std::size_t index = 0; index < cells.size(); ++index)
+    {
+      if (isolatedAfter[index] && !isolatedBefore[index])
+      {
+        return false;
+      }
+    }
+    return true;
   }
 
   /** The moves tried at a vertex: each finite cell of the star taking a neighbour's label; and, for each label
