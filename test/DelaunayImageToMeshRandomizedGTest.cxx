@@ -794,7 +794,7 @@ PrintSummary(std::ostream & stream, const std::string & title, const FamilySumma
          << summary.smallestDihedralAngle << " deg\n"
          << "    largest distance in delta (median / p95 / p99 / max), boundary to voxels: "
          << DescribeDistribution(summary.meshToSegmentation)
-         << "; voxels of thick components to boundary: " << DescribeDistribution(summary.segmentationToMesh) << "\n"
+         << "; thick parts' surface to boundary: " << DescribeDistribution(summary.segmentationToMesh) << "\n"
          << "    known defect: components a delta (not 2 delta) across without a tetrahedron "
          << summary.lostComponentsAboutADeltaAcross << "\n";
   for (const auto & entry : summary.outcomes)
@@ -911,7 +911,7 @@ TEST_P(RandomizedImages, MeshMeetsEveryGuaranteeOrFailsAsDocumented)
     const RandomCase randomCase = MakeCase(run.family, seed);
     if (OnlySeed())
     {
-      std::cout << Describe(randomCase) << std::endl;
+      std::cout << Describe(randomCase) << " (" << DescribeTopologySettings(randomCase.settings) << ")" << std::endl;
     }
     const CaseReport report = RunCase(randomCase);
     ++summary.cases;
@@ -942,7 +942,8 @@ TEST_P(RandomizedImages, MeshMeetsEveryGuaranteeOrFailsAsDocumented)
       {
         problems << "\n  - " << text;
       }
-      ADD_FAILURE() << Describe(randomCase) << ": " << OutcomeName(report.result.outcome)
+      ADD_FAILURE() << Describe(randomCase) << " (" << DescribeTopologySettings(randomCase.settings)
+                    << "): " << OutcomeName(report.result.outcome)
                     << (report.result.refinement.empty() ? "" : " (" + report.result.refinement + ")")
                     << problems.str();
     }

@@ -112,6 +112,13 @@ public:
     return m_Components[component].numberOfVoxels;
   }
 
+  /** The component of the voxel at `voxel` (a linear index into the image's buffer), None for background. */
+  std::size_t
+  ComponentOf(std::size_t voxel) const
+  {
+    return m_ComponentOfVoxel[voxel];
+  }
+
   /** Whether the component holds a ball of `radius` (physical units) centred on one of its voxel centres: no voxel
    * cube outside the component (another label, another component, beyond the image) comes closer than `radius` to
    * that centre. A lower bound on the largest inscribed ball, so "does not hold" may err, "holds" never does. */
@@ -169,6 +176,50 @@ public:
     return largest;
   }
 
+  /** The voxels that lie in a ball of `radius` held by one label's voxels alone (HoldsBall's measure, centred on a
+   * voxel centre; the background's balls may reach beyond the image, which is background): every label's thick
+   * part, its discrete opening by that ball, without the rims, lines, sheets and cavities thinner than the ball.
+   * One flag per voxel of the image. */
+  std::vector<bool>
+  ThickParts(double radius) const
+  {
+    const std::vector<Offset>          offsets = OffsetsCloserThan(radius);
+    const delaunay_refinement::Label * labels = m_Image->GetBufferPointer();
+    std::vector<bool>                  thickPart(m_ComponentOfVoxel.size(), false);
+    for (std::size_t voxel = 0; voxel < m_ComponentOfVoxel.size(); ++voxel)
+    {
+      const std::array<long, 3> index = IndexOf(voxel);
+      const auto                stepTo = [&index](const Offset & offset) {
+        return std::array<long, 3>{
+          { index[0] + offset.step[0], index[1] + offset.step[1], index[2] + offset.step[2] }
+        };
+      };
+      const std::size_t component = m_ComponentOfVoxel[voxel];
+      const bool        holds = std::all_of(offsets.begin(), offsets.end(), [&](const Offset & offset) {
+        const std::array<long, 3> other = stepTo(offset);
+        if (!IsInside(other))
+        {
+          return component == None;
+        }
+        return component == None ? labels[VoxelOf(other)] == delaunay_refinement::BackgroundLabel
+                                        : m_ComponentOfVoxel[VoxelOf(other)] == component;
+      });
+      if (!holds)
+      {
+        continue;
+      }
+      for (const Offset & offset : offsets)
+      {
+        const std::array<long, 3> other = stepTo(offset);
+        if (IsInside(other))
+        {
+          thickPart[VoxelOf(other)] = true;
+        }
+      }
+    }
+    return thickPart;
+  }
+
   /** The component whose voxel holds `point` (the nearest voxel centre), or None for background. */
   std::size_t
   ComponentAt(const delaunay_refinement::Vector3 & point) const
@@ -185,7 +236,8 @@ public:
   }
 
   /** The voxels' surface: every face between two voxels of different labels (beyond the image: background), as two
-   * triangles in physical space. With `keep`, only the faces that have a component it accepts on one side. */
+   * triangles in physical space; only the faces that `keep(a, b)` accepts, with a and b the voxels on either side
+   * (None beyond the image). */
   template <typename TKeep>
   void
   Surface(std::vector<delaunay_refinement::Vector3> & points, std::vector<std::array<uint32_t, 3>> & triangles,
@@ -215,9 +267,7 @@ public:
             {
               continue;
             }
-            const std::size_t a = componentAt(index);
-            const std::size_t b = componentAt(next);
-            if (!((a != None && keep(a)) || (b != None && keep(b))))
+            if (!keep(IsInside(index) ? VoxelOf(index) : None, IsInside(next) ? VoxelOf(next) : None))
             {
               continue;
             }
