@@ -38,16 +38,20 @@ struct RefinementParameters
    * With σ > 0 every sliver found is split at a point chosen to keep the boundary's bounds, peeled off the
    * background, or removed by moving a corner (docs/algorithm.md, "R4′ picks its point", "R4′ moves a vertex"). As
    * in the paper, nothing is proven: termination rests on maximumNumberOfVertices, and where none of these keeps
-   * them, boundary angles may fall below 30° and free vertices reach the boundary. Measured: dihedral angles >= σ on
-   * one-label images; a few tetrahedra below σ and non-manifold places between tissues on multi-label ones. */
+   * them, boundary angles may fall below 30° and free vertices reach the boundary. Measured with σ = 15° and 20°
+   * on the bench's images: dihedral angles >= σ, radius-edge < ρ and boundary angles > 30° on every one, at several
+   * times the time of σ = 0 on multi-label images at δ about their tissues' thickness (docs/algorithm.md). */
   double minimumDihedralAngle{ 0.0 };
   /** Safety cap on the number of vertices of the triangulation; exceeding it throws VertexLimitExceeded. Must be
    * at least 8 (the bounding box alone has 8). */
   std::size_t maximumNumberOfVertices{ 10000000 };
   /** Where a boundary comes out non-manifold and the oracle is a TopologyRegularizer, its labels are regularised
    * in a ball of radius δ around each such place and the refinement resumes there, at most this many rounds
-   * (docs/algorithm.md, "Topology"). 0 = never. Must be in [0, 20]. */
-  unsigned int topologyRegularizationRounds{ 6 };
+   * (docs/algorithm.md, "Topology"). 0 = never. Must be in [0, 20]. The rounds stop when no place is left: with
+   * σ = 0 no bench image needs more than 5, but with σ > 0 R4′'s splits in layers about δ thick make new places
+   * that later rounds settle (σ = 15°: the k-means tissues at 4.5 mm kept non-manifold vertices after 6 rounds,
+   * 0 after 10; on the 1 mm grid at 2 mm, 1 after 10, 0 after 20). */
+  unsigned int topologyRegularizationRounds{ 20 };
   /** Where a boundary comes out non-manifold, first give tetrahedra there a neighbour's label when that mends the
    * place and keeps the boundary on the surface with angles above 30° (docs/algorithm.md, "Topology"); the
    * regularisation rounds then see only the places this could not mend. */

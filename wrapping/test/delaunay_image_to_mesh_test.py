@@ -76,7 +76,7 @@ def check_topology_options():
     image, _ = make_sphere_image(np.uint8)
     filter_ = itk.DelaunayImageToMeshFilter.New(image, SurfaceSamplingDistance=2.0)
     assert filter_.GetRegularizationScale() == 0.4, f"RegularizationScale {filter_.GetRegularizationScale()}"
-    assert filter_.GetTopologyRegularizationRounds() == 6, f"rounds {filter_.GetTopologyRegularizationRounds()}"
+    assert filter_.GetTopologyRegularizationRounds() == 20, f"rounds {filter_.GetTopologyRegularizationRounds()}"
     assert filter_.GetRelabelNonManifoldPlaces(), "relabelling non-manifold places is the default"
     assert filter_.GetManifoldRefinementLevels() == 0, "the old delta halving is opt-in"
     filter_.SetRelabelNonManifoldPlaces(False)
