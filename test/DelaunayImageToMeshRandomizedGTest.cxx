@@ -1130,6 +1130,23 @@ TEST(RandomizedKnownDefect, ComponentsADeltaAcrossCanBeLost)
     << "fixed? make ThickComponentRadius() delta / 2 and remove this test";
 }
 
+/** With ρ = 1 and σ near 19° the refinement may not end: R4 splits every tissue tetrahedron whose radius-edge ratio
+ * reaches 1 and R4′ every one with a dihedral angle below σ, and near the boundary the two can keep making work for
+ * each other (nothing is proven below ρ = 2, nor with σ > 0). Found by a search of 12,000 more cases: Mixed 8004179
+ * (ρ = 1, σ = 18.9°, δ = 1.18 mm) reached the suite's cap of 100,000 vertices, where a run that ends has 258. It is
+ * chaotic: of six values of δ within 0.3 % of the case's, three end (115 to 258 vertices) and three run away; with
+ * ρ = 1.5 or σ = 15° every one ends. Pinned with a cap of 5,000 vertices, 20 times what an ending run needs. */
+TEST(RandomizedKnownDefect, RhoOneWithSigmaNearTwentyCanRefineWithoutEnd)
+{
+  RandomCase randomCase = MakeCase(Family::Mixed, 8004179);
+  ASSERT_EQ(randomCase.settings.radiusEdgeBound, 1.0) << "the case is no longer the one";
+  ASSERT_GT(randomCase.settings.minimumDihedralAngle, 18.0) << "the case is no longer the one";
+  randomCase.settings.maximumNumberOfVertices = 5000;
+  const CaseReport report = RunCase(randomCase);
+  EXPECT_EQ(report.result.outcome, Outcome::VertexLimit)
+    << "fixed? it ended with " << report.result.points << " points: make it a RandomizedRegression test";
+}
+
 /** The case where boundary feature vertices stayed off the voxel surface after the local topology regularisation
  * (issue #14): the voxel pinches mended after the balls were regularised changed voxels outside the balls, and the
  * refinement looked again only inside them. Now each such voxel has a ball of its own; the case must mesh and pass
