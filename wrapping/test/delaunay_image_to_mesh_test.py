@@ -83,7 +83,7 @@ def check_topology_options():
     filter_.Update()
     assert not filter_.GetRelabelNonManifoldPlaces()
     assert filter_.GetNumberOfTopologyRelabelledTetrahedra() == 0, "tetrahedra relabelled with the relabelling off"
-    print("topology options: defaults 0.4 / 6 rounds / relabelling on / no delta halving; off relabels nothing")
+    print("topology options: defaults 0.4 / 20 rounds / relabelling on / no delta halving; off relabels nothing")
 
 
 def main():
