@@ -295,8 +295,8 @@ Describe(const FilterSettings & settings)
   return text.str();
 }
 
-/** The topology settings of the case when they are not the filter's defaults, for a person reproducing it: not part of
- * Describe(), whose text the recorded cases' fingerprints hash. */
+/** The regularisation scale, and the other topology settings where they are not the filter's defaults, for a person
+ * reproducing a case: not part of Describe(), whose text the recorded cases' fingerprints hash. */
 inline std::string
 DescribeTopologySettings(const FilterSettings & settings)
 {

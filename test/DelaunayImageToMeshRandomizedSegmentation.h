@@ -247,9 +247,6 @@ public:
     const auto                         labelAt = [&](const std::array<long, 3> & index) {
       return IsInside(index) ? labels[VoxelOf(index)] : delaunay_refinement::BackgroundLabel;
     };
-    const auto componentAt = [&](const std::array<long, 3> & index) {
-      return IsInside(index) ? m_ComponentOfVoxel[VoxelOf(index)] : None;
-    };
     for (int axis = 0; axis < 3; ++axis)
     {
       const int           first = (axis + 1) % 3;
