@@ -1147,6 +1147,22 @@ TEST(RandomizedKnownDefect, RhoOneWithSigmaNearTwentyCanRefineWithoutEnd)
     << "fixed? it ended with " << report.result.points << " points: make it a RandomizedRegression test";
 }
 
+/** A sliver that R4′ leaves to the flat-cap step as a cap on the background stays below σ when peeling it off would
+ * make a vertex non-manifold: the step gives it its label back, and nothing splits it after that. Found by a search of
+ * 12,000 more cases (seeds 4,500-5,999): Mixed 8005805 (σ = 5.2°) keeps a tetrahedron of 0.0087° with four surface
+ * corners and two facets on the background; every other check passes. Pinned until the refinement resumes for such
+ * slivers (split at their best point, then the topology repair again). */
+TEST(RandomizedKnownDefect, SliverCapThatCannotBePeeledStaysBelowSigma)
+{
+  const RandomCase randomCase = MakeCase(Family::Mixed, 8005805);
+  ASSERT_GT(randomCase.settings.minimumDihedralAngle, 5.0) << "the case is no longer the one";
+  const CaseReport report = RunCase(randomCase);
+  ASSERT_EQ(report.result.outcome, Outcome::Mesh);
+  ASSERT_EQ(report.problems.size(), 1u) << (report.problems.empty() ? "fixed? make it a RandomizedRegression test"
+                                                                    : report.problems.front());
+  EXPECT_EQ(report.problems.front().rfind("smallest dihedral angle ", 0), 0u) << report.problems.front();
+}
+
 /** The case where boundary feature vertices stayed off the voxel surface after the local topology regularisation
  * (issue #14): the voxel pinches mended after the balls were regularised changed voxels outside the balls, and the
  * refinement looked again only inside them. Now each such voxel has a ball of its own; the case must mesh and pass
