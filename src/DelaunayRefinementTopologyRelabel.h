@@ -513,41 +513,49 @@ private:
       caps.begin(), caps.end(), [this](CellHandle cell) { return FlatCaps::IsCapOnBackground(m_State, cell); });
   }
 
-  /** For each cell, whether it carries a tissue's label that none of its face neighbours carries: a one-tetrahedron
+  /** Whether the cell carries a tissue's label that none of its face neighbours carries: a one-tetrahedron
    * component. */
+  bool
+  IsIsolated(CellHandle cell) const
+  {
+    const Label label = LabelOf(cell);
+    if (label == BackgroundLabel)
+    {
+      return false;
+    }
+    for (int facet = 0; facet < 4; ++facet)
+    {
+      if (LabelOf(cell->neighbor(facet)) == label)
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  /** IsIsolated() of each cell. */
   std::vector<bool>
   Isolated(const std::vector<CellHandle> & cells) const
   {
-    std::vector<bool> isolated(cells.size(), false);
-    for (std::size_t index = 0; index < cells.size(); ++index)
+    std::vector<bool> isolated;
+    isolated.reserve(cells.size());
+    for (const CellHandle cell : cells)
     {
-      const CellHandle cell = cells[index];
-      const Label      label = LabelOf(cell);
-      if (label == BackgroundLabel)
-      {
-        continue;
-      }
-      bool shared = false;
-      for (int facet = 0; facet < 4 && !shared; ++facet)
-      {
-        shared = LabelOf(cell->neighbor(facet)) == label;
-      }
-      isolated[index] = !shared;
+      isolated.push_back(IsIsolated(cell));
     }
     return isolated;
   }
 
-  /** Whether every cell isolated now (Isolated) was isolated before the move: a move makes no one-tetrahedron
+  /** Whether every cell isolated now (IsIsolated) was isolated before the move: a move makes no one-tetrahedron
    * component, and leaves no relabelled tetrahedron alone with its new label. Comparing counts is not enough: a
    * move that joined one isolated cell to a neighbour while isolating another would pass (found by a wider
    * randomized search, SaltAndPepper 2002799: a relabelled tetrahedron with no neighbour of its label). */
   bool
   IsolatesNone(const std::vector<CellHandle> & cells, const std::vector<bool> & isolatedBefore) const
   {
-    const std::vector<bool> isolatedAfter = Isolated(cells);
     for (std::size_t index = 0; index < cells.size(); ++index)
     {
-      if (isolatedAfter[index] && !isolatedBefore[index])
+      if (!isolatedBefore[index] && IsIsolated(cells[index]))
       {
         return false;
       }
