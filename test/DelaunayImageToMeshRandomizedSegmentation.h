@@ -126,27 +126,9 @@ public:
   HoldsBall(std::size_t component, double radius) const
   {
     const std::vector<Offset> offsets = OffsetsCloserThan(radius);
-    for (const std::size_t voxel : m_Components[component].voxels)
-    {
-      const std::array<long, 3> index = IndexOf(voxel);
-      bool                      clear = true;
-      for (const Offset & offset : offsets)
-      {
-        const std::array<long, 3> other{
-          { index[0] + offset.step[0], index[1] + offset.step[1], index[2] + offset.step[2] }
-        };
-        if (!IsInside(other) || m_ComponentOfVoxel[VoxelOf(other)] != component)
-        {
-          clear = false;
-          break;
-        }
-      }
-      if (clear)
-      {
-        return true;
-      }
-    }
-    return false;
+    return std::any_of(m_Components[component].voxels.begin(),
+                       m_Components[component].voxels.end(),
+                       [&](std::size_t voxel) { return BallIsWithin(IndexOf(voxel), component, offsets); });
   }
 
   /** The radius of the largest ball centred on one of the component's voxel centres that no voxel cube outside the
@@ -162,9 +144,7 @@ public:
       double                    clearance = limit;
       for (const Offset & offset : offsets)
       {
-        const std::array<long, 3> other{
-          { index[0] + offset.step[0], index[1] + offset.step[1], index[2] + offset.step[2] }
-        };
+        const std::array<long, 3> other = Step(index, offset);
         if (!IsInside(other) || m_ComponentOfVoxel[VoxelOf(other)] != component)
         {
           clearance = offset.distance;
@@ -183,34 +163,18 @@ public:
   std::vector<bool>
   ThickParts(double radius) const
   {
-    const std::vector<Offset>          offsets = OffsetsCloserThan(radius);
-    const delaunay_refinement::Label * labels = m_Image->GetBufferPointer();
-    std::vector<bool>                  thickPart(m_ComponentOfVoxel.size(), false);
+    const std::vector<Offset> offsets = OffsetsCloserThan(radius);
+    std::vector<bool>         thickPart(m_ComponentOfVoxel.size(), false);
     for (std::size_t voxel = 0; voxel < m_ComponentOfVoxel.size(); ++voxel)
     {
       const std::array<long, 3> index = IndexOf(voxel);
-      const auto                stepTo = [&index](const Offset & offset) {
-        return std::array<long, 3>{
-          { index[0] + offset.step[0], index[1] + offset.step[1], index[2] + offset.step[2] }
-        };
-      };
-      const std::size_t component = m_ComponentOfVoxel[voxel];
-      const bool        holds = std::all_of(offsets.begin(), offsets.end(), [&](const Offset & offset) {
-        const std::array<long, 3> other = stepTo(offset);
-        if (!IsInside(other))
-        {
-          return component == None;
-        }
-        return component == None ? labels[VoxelOf(other)] == delaunay_refinement::BackgroundLabel
-                                        : m_ComponentOfVoxel[VoxelOf(other)] == component;
-      });
-      if (!holds)
+      if (!BallIsWithin(index, m_ComponentOfVoxel[voxel], offsets))
       {
         continue;
       }
       for (const Offset & offset : offsets)
       {
-        const std::array<long, 3> other = stepTo(offset);
+        const std::array<long, 3> other = Step(index, offset);
         if (IsInside(other))
         {
           thickPart[VoxelOf(other)] = true;
@@ -342,6 +306,23 @@ private:
     std::sort(
       offsets.begin(), offsets.end(), [](const Offset & a, const Offset & b) { return a.distance < b.distance; });
     return offsets;
+  }
+
+  static std::array<long, 3>
+  Step(const std::array<long, 3> & index, const Offset & offset)
+  {
+    return { { index[0] + offset.step[0], index[1] + offset.step[1], index[2] + offset.step[2] } };
+  }
+
+  /** Whether every voxel cube the ball `offsets` around the voxel at `index` reaches belongs to `component`, or, for
+   * None, is background (beyond the image included, which is background). */
+  bool
+  BallIsWithin(const std::array<long, 3> & index, std::size_t component, const std::vector<Offset> & offsets) const
+  {
+    return std::all_of(offsets.begin(), offsets.end(), [&](const Offset & offset) {
+      const std::array<long, 3> other = Step(index, offset);
+      return IsInside(other) ? m_ComponentOfVoxel[VoxelOf(other)] == component : component == None;
+    });
   }
 
   bool
