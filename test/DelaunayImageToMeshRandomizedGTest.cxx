@@ -335,6 +335,14 @@ Describe(const RandomCase & randomCase)
   return text.str();
 }
 
+/** Describe() and the topology settings, which the recorded cases' fingerprints leave out: what a person needs to
+ * reproduce the case. */
+std::string
+DescribeToReproduce(const RandomCase & randomCase)
+{
+  return Describe(randomCase) + " (" + DescribeTopologySettings(randomCase.settings) + ")";
+}
+
 Geometry
 RandomGeometry(CaseRandom & random)
 {
@@ -911,7 +919,7 @@ TEST_P(RandomizedImages, MeshMeetsEveryGuaranteeOrFailsAsDocumented)
     const RandomCase randomCase = MakeCase(run.family, seed);
     if (OnlySeed())
     {
-      std::cout << Describe(randomCase) << " (" << DescribeTopologySettings(randomCase.settings) << ")" << std::endl;
+      std::cout << DescribeToReproduce(randomCase) << std::endl;
     }
     const CaseReport report = RunCase(randomCase);
     ++summary.cases;
@@ -942,8 +950,7 @@ TEST_P(RandomizedImages, MeshMeetsEveryGuaranteeOrFailsAsDocumented)
       {
         problems << "\n  - " << text;
       }
-      ADD_FAILURE() << Describe(randomCase) << " (" << DescribeTopologySettings(randomCase.settings)
-                    << "): " << OutcomeName(report.result.outcome)
+      ADD_FAILURE() << DescribeToReproduce(randomCase) << ": " << OutcomeName(report.result.outcome)
                     << (report.result.refinement.empty() ? "" : " (" + report.result.refinement + ")")
                     << problems.str();
     }

@@ -1018,15 +1018,22 @@ TEST(KmeansTissues, EachTissueBoundaryIsAClosedManifold)
   }
 }
 
+/** The boundary triangles with the background on their far side: the boundary of the union of the tissues. */
+std::vector<std::array<uint32_t, 3>>
+TrianglesAgainstTheBackground(const dr::TetrahedralMesh & mesh)
+{
+  return BoundaryTrianglesWhere(
+    mesh, [](const std::array<dr::Label, 2> & labels) { return labels[1] == dr::BackgroundLabel; });
+}
+
 // The tissues together against the background: the triangles with background on their far side bound the
 // union of the tissues, which must again be a closed manifold.
 TEST(KmeansTissues, UnionBoundaryIsAClosedManifold)
 {
   const dr::TetrahedralMesh & mesh = MeshedKmeans().mesh;
-  const auto                  outer = BoundaryTrianglesWhere(
-    mesh, [](const std::array<dr::Label, 2> & labels) { return labels[1] == dr::BackgroundLabel; });
-  const dr::SurfaceTopology topology = dr::ComputeSurfaceTopology(mesh.points, outer);
-  std::size_t               oddEdges = 0;
+  const auto                  outer = TrianglesAgainstTheBackground(mesh);
+  const dr::SurfaceTopology   topology = dr::ComputeSurfaceTopology(mesh.points, outer);
+  std::size_t                 oddEdges = 0;
   for (const auto & entry : TrianglesPerEdge(outer))
   {
     oddEdges += entry.second % 2;
@@ -1066,9 +1073,8 @@ TEST(KmeansSlivers, FifteenDegreesKeepEveryBoundaryAManifold)
     EXPECT_EQ(topology.nonManifoldEdges, 0u) << "tissue " << tissue;
     EXPECT_EQ(topology.nonManifoldVertices, 0u) << "tissue " << tissue;
   }
-  const auto outer = BoundaryTrianglesWhere(
-    meshed->mesh, [](const std::array<dr::Label, 2> & labels) { return labels[1] == dr::BackgroundLabel; });
-  const dr::SurfaceTopology unionTopology = dr::ComputeSurfaceTopology(meshed->mesh.points, outer);
+  const dr::SurfaceTopology unionTopology =
+    dr::ComputeSurfaceTopology(meshed->mesh.points, TrianglesAgainstTheBackground(meshed->mesh));
   EXPECT_EQ(unionTopology.nonManifoldEdges, 0u) << "the union of the tissues";
   EXPECT_EQ(unionTopology.nonManifoldVertices, 0u) << "the union of the tissues";
 }
