@@ -48,6 +48,9 @@ struct RefinementStatistics
   std::size_t sliverPerturbations{ 0 };
   /** Slivers R4' left unsplit as caps on the background, for the flat-cap step to peel off. */
   std::size_t sliverCapsLeftToPeel{ 0 };
+  /** Of those, the ones the flat-cap step could not peel off (a boundary would have become non-manifold), split
+   * after all. */
+  std::size_t sliverCapsThatCouldNotBePeeled{ 0 };
   std::size_t insertionsE1{ 0 };
   std::size_t insertionsE2{ 0 };
   std::size_t insertionsE3{ 0 };

@@ -28,7 +28,8 @@
 // on the boundary and edges below δ (Lemmas 2 and 5), so it is relabelled, after every rule and repair, and only
 // where that makes no boundary non-manifold. With σ > 0 the same step peels off the background the slivers that
 // R4′ left as caps on it (no split point there passed its acceptance test): their new boundary triangles are
-// checked for 30°, since they are not co-circular.
+// checked for 30°, since they are not co-circular. A sliver whose peel would make a boundary non-manifold stays, and
+// the refinement splits it after all (Refiner::PeelFlatCaps in DelaunayRefinementMesher.cxx).
 
 #include "DelaunayRefinementGeometry.h"
 #include "DelaunayRefinementManifoldRepair.h"
@@ -90,15 +91,32 @@ public:
     return LabelAsCap(state, cell) == std::optional<Label>(BackgroundLabel);
   }
 
-  /** Gives every flat cap the label beyond its boundary facets where no boundary becomes non-manifold by it;
-   * returns how many were relabelled. */
-  std::size_t
+  /** What Relabel() did: the tetrahedra relabelled, each with its label before, and the slivers it had to leave
+   * in their tissue because peeling them made a boundary non-manifold. */
+  struct Relabelling
+  {
+    std::vector<std::pair<CellHandle, Label>> relabelled;
+    std::vector<CellHandle>                   sliversKept;
+
+    /** Gives the relabelled tetrahedra their labels back. */
+    void
+    Undo() const
+    {
+      for (const auto & [cell, label] : relabelled)
+      {
+        cell->cache.label = label;
+      }
+    }
+  };
+
+  /** Gives every flat cap the label beyond its boundary facets where no boundary becomes non-manifold by it. */
+  Relabelling
   Relabel() const
   {
     std::vector<std::pair<CellHandle, Label>> caps = FindCaps();
     if (caps.empty())
     {
-      return 0;
+      return {};
     }
     const std::set<Vector3> nonManifoldBefore = NonManifoldPoints();
     for (auto & [cell, label] : caps)
@@ -121,8 +139,19 @@ public:
         reverted = true;
       }
     }
-    return static_cast<std::size_t>(
-      std::count_if(caps.begin(), caps.end(), [](const auto & cap) { return cap.first->cache.label != cap.second; }));
+    Relabelling relabelling;
+    for (const auto & [cell, label] : caps)
+    {
+      if (cell->cache.label != label)
+      {
+        relabelling.relabelled.emplace_back(cell, label);
+      }
+      else if (!IsFlatToRounding(m_State.CornersOf(cell)))
+      {
+        relabelling.sliversKept.push_back(cell);
+      }
+    }
+    return relabelling;
   }
 
 private:

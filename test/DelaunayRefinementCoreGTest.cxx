@@ -863,7 +863,8 @@ TEST(CoreSliverRemoval, KeepsTheBoundaryBoundsOnEveryShape)
               << " deg, min boundary angle " << meshed.boundary.minimumPlanarAngle << " deg; R4' "
               << s.insertionsR4Dihedral << " (on the surface " << s.sliverSplitsOnSurface << ", changing the boundary "
               << s.sliverSplitsChangingBoundary << ", failing the acceptance test " << s.sliverSplitsFailingAcceptance
-              << "), caps left to peel " << s.sliverCapsLeftToPeel << "\n";
+              << "), caps left to peel " << s.sliverCapsLeftToPeel << " (split after all "
+              << s.sliverCapsThatCouldNotBePeeled << ")\n";
   }
 }
 
