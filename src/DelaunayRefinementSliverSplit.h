@@ -29,11 +29,14 @@
 #include "DelaunayRefinementBoxProtection.h"
 #include "DelaunayRefinementGeometry.h"
 #include "DelaunayRefinementMeshState.h"
+#include "DelaunayRefinementVertexLinks.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <iterator>
+#include <optional>
+#include <stdexcept>
 #include <tuple>
 #include <vector>
 
@@ -88,44 +91,36 @@ public:
   Choose(CellHandle cell, const Vector3 & center, double squaredRadius) const
   {
     const double radius = std::sqrt(squaredRadius);
-    Ranked       best;
-    const auto   consider = [&](const Vector3 & point, VertexKind kind) {
-      const Ranked candidate = Evaluate(point, kind, cell, best);
-      if (candidate.IsBetterThan(best))
-      {
-        best = candidate;
-      }
-      return best.split.accepted && !best.split.changesBoundary && m_DihedralBound.IsReachedBy(best.cosine);
-    };
-    if (consider(center, VertexKind::Free))
-    {
-      return best.split;
-    }
-    for (const double fraction : { 0.5 * PickingRadius, PickingRadius })
-    {
-      for (const Vector3 & direction : Directions())
-      {
-        if (consider(center + (fraction * radius) * direction, VertexKind::Free))
-        {
-          return best.split;
-        }
-      }
-    }
-    // A sliver on a boundary may have no free point that leaves the boundary good: a point on the surface, which
-    // the boundary may pass through, is tried last.
-    const SurfacePoint onSurface = m_Oracle.ClosestSurfacePoint(center);
-    if (onSurface.distance <= SurfacePickingRadius * radius)
-    {
-      consider(onSurface.point, VertexKind::Feature);
-    }
+    const Ranked best = BestCandidate(cell, center, radius, Topology::MayChange);
     if (best.fault == Fault::Uninsertable)
     {
       return { center, VertexKind::Free, true, false };
     }
-    return best.split;
+    if (!best.split.changesBoundary)
+    {
+      return best.split;
+    }
+    // The best point changes a boundary: if that makes a boundary non-manifold somewhere, the best point that
+    // does not, when it is as good by the acceptance test. Every non-manifold place a split makes costs a round
+    // of the topology repair later, and most of the repair's time (measured on the k-means tissues at 4.5 mm,
+    // σ = 15°: 992 of 7,977 splits made one).
+    Evaluate(best.split.point, best.split.kind, cell, Ranked());
+    if (!MakesANonManifoldPlace())
+    {
+      return best.split;
+    }
+    const Ranked keepingTopology = BestCandidate(cell, center, radius, Topology::MustStayManifold);
+    return keepingTopology.fault <= best.fault ? keepingTopology.split : best.split;
   }
 
 private:
+  /** Whether a candidate may make a boundary non-manifold where it was not. */
+  enum class Topology
+  {
+    MayChange,
+    MustStayManifold
+  };
+
   /** Why a candidate fails the acceptance test, from the mildest. */
   enum class Fault
   {
@@ -197,6 +192,45 @@ private:
       return result;
     }();
     return directions;
+  }
+
+  /** The best candidate (see Choose), among those that make no boundary non-manifold where it was not when
+   * `topology` says so; Fault::Uninsertable when none is insertable. */
+  Ranked
+  BestCandidate(CellHandle cell, const Vector3 & center, double radius, Topology topology) const
+  {
+    Ranked     best;
+    const auto consider = [&](const Vector3 & point, VertexKind kind) {
+      const Ranked candidate = Evaluate(point, kind, cell, best);
+      if (candidate.IsBetterThan(best) &&
+          (topology == Topology::MayChange || !candidate.split.changesBoundary || !MakesANonManifoldPlace()))
+      {
+        best = candidate;
+      }
+      return best.split.accepted && !best.split.changesBoundary && m_DihedralBound.IsReachedBy(best.cosine);
+    };
+    if (consider(center, VertexKind::Free))
+    {
+      return best;
+    }
+    for (const double fraction : { 0.5 * PickingRadius, PickingRadius })
+    {
+      for (const Vector3 & direction : Directions())
+      {
+        if (consider(center + (fraction * radius) * direction, VertexKind::Free))
+        {
+          return best;
+        }
+      }
+    }
+    // A sliver on a boundary may have no free point that leaves the boundary good: a point on the surface, which
+    // the boundary may pass through, is tried last.
+    const SurfacePoint onSurface = m_Oracle.ClosestSurfacePoint(center);
+    if (onSurface.distance <= SurfacePickingRadius * radius)
+    {
+      consider(onSurface.point, VertexKind::Feature);
+    }
+    return best;
   }
 
   /** The acceptance test and the score of inserting `point` as a vertex of `kind` to split `sliver`. Its new
@@ -316,14 +350,11 @@ private:
   bool
   NewBoundaryTrianglesAreGood(const Vector3 & point, VertexKind kind) const
   {
-    m_Edges.clear();
     for (std::size_t index = 0; index < m_BoundaryFacets.size(); ++index)
     {
       const auto & [cell, opposite] = m_BoundaryFacets[index];
       const Label                       outsideLabel = m_State.LabelBeyondFacet(cell, opposite);
-      const std::array<VertexHandle, 3> corners{ cell->vertex(Triangulation::vertex_triple_index(opposite, 0)),
-                                                 cell->vertex(Triangulation::vertex_triple_index(opposite, 1)),
-                                                 cell->vertex(Triangulation::vertex_triple_index(opposite, 2)) };
+      const std::array<VertexHandle, 3> corners = CornersOfBoundaryFacet(index);
       const bool                        wasOnBoundary = cell->cache.label != outsideLabel;
       const bool                        isOnBoundary = m_NewLabels[index] != outsideLabel;
       if (isOnBoundary && !wasOnBoundary &&
@@ -333,6 +364,45 @@ private:
       {
         return false;
       }
+    }
+    // The triangle joining the new point to an edge of the region's boundary is on a boundary when the new
+    // tetrahedra on the edge's two facets differ in label.
+    FindEdgesOfBoundaryFacets();
+    for (std::size_t index = 0; index + 1 < m_Edges.size(); index += 2)
+    {
+      const EdgeOfFacet & edge = m_Edges[index];
+      const EdgeOfFacet & twin = m_Edges[index + 1];
+      if (m_NewLabels[edge.facet] == m_NewLabels[twin.facet])
+      {
+        continue;
+      }
+      if (kind == VertexKind::Free || IsFree(edge.a) || IsFree(edge.b) ||
+          !HasPlanarAnglesAbove30Degrees(m_State.PointOf(edge.a), m_State.PointOf(edge.b), point))
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  std::array<VertexHandle, 3>
+  CornersOfBoundaryFacet(std::size_t index) const
+  {
+    const auto & [cell, opposite] = m_BoundaryFacets[index];
+    return { cell->vertex(Triangulation::vertex_triple_index(opposite, 0)),
+             cell->vertex(Triangulation::vertex_triple_index(opposite, 1)),
+             cell->vertex(Triangulation::vertex_triple_index(opposite, 2)) };
+  }
+
+  /** The edges of the conflict region's boundary facets into m_Edges, by their ends' ids: the region is a ball, so
+   * each edge is on exactly two facets, and the two copies come one after the other. */
+  void
+  FindEdgesOfBoundaryFacets() const
+  {
+    m_Edges.clear();
+    for (std::size_t index = 0; index < m_BoundaryFacets.size(); ++index)
+    {
+      const std::array<VertexHandle, 3> corners = CornersOfBoundaryFacet(index);
       for (int edge = 0; edge < 3; ++edge)
       {
         VertexHandle a = corners[edge];
@@ -344,26 +414,179 @@ private:
         m_Edges.push_back({ a, b, a->info().id, b->info().id, index });
       }
     }
-    // Each edge of the conflict region's boundary is on two of its facets; the triangle joining the new point to
-    // it is on a boundary when their new tetrahedra differ in label.
     std::sort(m_Edges.begin(), m_Edges.end(), [](const EdgeOfFacet & x, const EdgeOfFacet & y) {
       return std::tie(x.idA, x.idB, x.facet) < std::tie(y.idA, y.idB, y.facet);
     });
-    for (std::size_t index = 0; index + 1 < m_Edges.size(); ++index)
+    for (std::size_t index = 0; index < m_Edges.size(); index += 2)
     {
-      const EdgeOfFacet & edge = m_Edges[index];
-      const EdgeOfFacet & twin = m_Edges[index + 1];
-      if (edge.a != twin.a || edge.b != twin.b || m_NewLabels[edge.facet] == m_NewLabels[twin.facet])
+      if (index + 1 == m_Edges.size() || m_Edges[index].a != m_Edges[index + 1].a ||
+          m_Edges[index].b != m_Edges[index + 1].b ||
+          (index + 2 < m_Edges.size() && m_Edges[index + 2].a == m_Edges[index].a &&
+           m_Edges[index + 2].b == m_Edges[index].b))
+      {
+        throw std::logic_error("SliverSplit: a conflict region's boundary is not a closed surface");
+      }
+    }
+  }
+
+  /** Whether the insertion last evaluated (its conflict region and new labels, Evaluate) would make a boundary
+   * non-manifold at a vertex where it was not, or at the new point: each vertex of the region's boundary is tested
+   * with its star as it would be (VertexLinks). Only those vertices' stars change. */
+  bool
+  MakesANonManifoldPlace() const
+  {
+    const Triangulation & triangulation = m_State.GetTriangulation();
+    m_SortedConflictCells = m_ConflictCells;
+    std::sort(m_SortedConflictCells.begin(), m_SortedConflictCells.end());
+    const auto inConflict = [this](CellHandle cell) {
+      return std::binary_search(m_SortedConflictCells.begin(), m_SortedConflictCells.end(), cell);
+    };
+    // The triangles joining the new point to an edge of the region's boundary, between the new tetrahedra on the
+    // edge's two facets (m_Edges pairs them).
+    FindEdgesOfBoundaryFacets();
+    m_RegionVertices.clear();
+    for (const EdgeOfFacet & edge : m_Edges)
+    {
+      m_RegionVertices.push_back(edge.a);
+      m_RegionVertices.push_back(edge.b);
+    }
+    std::sort(m_RegionVertices.begin(), m_RegionVertices.end());
+    m_RegionVertices.erase(std::unique(m_RegionVertices.begin(), m_RegionVertices.end()), m_RegionVertices.end());
+    for (const VertexHandle vertex : m_RegionVertices)
+    {
+      if (!LinkMayChangeAt(vertex))
       {
         continue;
       }
-      if (kind == VertexKind::Free || IsFree(edge.a) || IsFree(edge.b) ||
-          !HasPlanarAnglesAbove30Degrees(m_State.PointOf(edge.a), m_State.PointOf(edge.b), point))
+      m_Star.clear();
+      triangulation.incident_cells(vertex, std::back_inserter(m_Star));
+      const int before = m_Links.NonManifoldLabelsAt(triangulation, vertex, m_Star);
+      m_FacetsAtVertex.clear();
+      // Triangles between two tetrahedra that stay.
+      for (const CellHandle cell : m_Star)
       {
-        return false;
+        if (inConflict(cell))
+        {
+          continue;
+        }
+        const int own = cell->index(vertex);
+        for (int facet = 0; facet < 4; ++facet)
+        {
+          const CellHandle neighbor = cell->neighbor(facet);
+          if (facet == own || inConflict(neighbor) || neighbor < cell)
+          {
+            continue;
+          }
+          std::array<VertexHandle, 2> edge{};
+          int                         count = 0;
+          for (int corner = 0; corner < 4; ++corner)
+          {
+            if (corner != facet && corner != own)
+            {
+              edge[count++] = cell->vertex(corner);
+            }
+          }
+          m_FacetsAtVertex.push_back({ edge, LabelOf(cell), LabelOf(neighbor) });
+        }
+      }
+      // The region's boundary facets at the vertex, between a tetrahedron that stays and a new one.
+      for (std::size_t index = 0; index < m_BoundaryFacets.size(); ++index)
+      {
+        const auto & [cell, opposite] = m_BoundaryFacets[index];
+        std::array<VertexHandle, 2> edge{};
+        int                         count = 0;
+        bool                        atVertex = false;
+        for (const VertexHandle v : CornersOfBoundaryFacet(index))
+        {
+          if (v == vertex)
+          {
+            atVertex = true;
+          }
+          else if (count < 2)
+          {
+            edge[count++] = v;
+          }
+        }
+        if (atVertex)
+        {
+          m_FacetsAtVertex.push_back({ edge, LabelOf(cell->neighbor(opposite)), m_NewLabels[index] });
+        }
+      }
+      // The new triangles at the vertex: the new point and the other end of a boundary edge at the vertex.
+      AddNewTrianglesAt(vertex);
+      if (m_Links.NonManifoldLabelsAmongFacets(m_FacetsAtVertex) > before)
+      {
+        return true;
       }
     }
-    return true;
+    if (std::all_of(m_NewLabels.begin(), m_NewLabels.end(), [this](Label label) { return label == m_NewLabels[0]; }))
+    {
+      return false;
+    }
+    m_FacetsAtVertex.clear();
+    AddNewTrianglesAt(VertexHandle());
+    return m_Links.NonManifoldLabelsAmongFacets(m_FacetsAtVertex) > 0;
+  }
+
+  /** Whether a boundary's link at `vertex`, a vertex of the conflict region, may change: unless the replaced
+   * tetrahedra at it and the new ones there all carry one label, a triangle at it changes sides. When they do,
+   * the triangles it had on a boundary stay there, between the same labels, and no other comes. */
+  bool
+  LinkMayChangeAt(VertexHandle vertex) const
+  {
+    std::optional<Label> only;
+    const auto           differs = [&only](Label label) {
+      if (!only)
+      {
+        only = label;
+      }
+      return *only != label;
+    };
+    for (const CellHandle cell : m_ConflictCells)
+    {
+      if (cell->has_vertex(vertex) && differs(cell->cache.label))
+      {
+        return true;
+      }
+    }
+    for (std::size_t index = 0; index < m_BoundaryFacets.size(); ++index)
+    {
+      const std::array<VertexHandle, 3> corners = CornersOfBoundaryFacet(index);
+      if (std::find(corners.begin(), corners.end(), vertex) != corners.end() && differs(m_NewLabels[index]))
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  /** Adds to m_FacetsAtVertex the new triangles (the new point joined to an edge of the region's boundary) at
+   * `vertex`, or at the new point when it is null: their edge opposite it, and the labels of the new tetrahedra on
+   * the edge's two facets. */
+  void
+  AddNewTrianglesAt(VertexHandle vertex) const
+  {
+    for (std::size_t index = 0; index + 1 < m_Edges.size(); index += 2)
+    {
+      const EdgeOfFacet & edge = m_Edges[index];
+      const EdgeOfFacet & twin = m_Edges[index + 1];
+      const Label         label = m_NewLabels[edge.facet];
+      const Label         other = m_NewLabels[twin.facet];
+      if (vertex == VertexHandle())
+      {
+        m_FacetsAtVertex.push_back({ { edge.a, edge.b }, label, other });
+      }
+      else if (edge.a == vertex || edge.b == vertex)
+      {
+        m_FacetsAtVertex.push_back({ { edge.a == vertex ? edge.b : edge.a, VertexHandle() }, label, other });
+      }
+    }
+  }
+
+  Label
+  LabelOf(CellHandle cell) const
+  {
+    return m_State.GetTriangulation().is_infinite(cell) ? BackgroundLabel : cell->cache.label;
   }
 
   static bool
@@ -383,16 +606,21 @@ private:
     std::size_t  facet;
   };
 
-  const LabelOracle &                         m_Oracle;
-  const MeshState &                           m_State;
-  const BoxProtection &                       m_Box;
-  double                                      m_RadiusEdgeBound;
-  DihedralAngleBound                          m_DihedralBound;
-  mutable std::vector<Triangulation::Facet>   m_BoundaryFacets;
-  mutable std::vector<CellHandle>             m_ConflictCells;
-  mutable std::vector<std::array<Vector3, 4>> m_NewTetrahedra;
-  mutable std::vector<Label>                  m_NewLabels;
-  mutable std::vector<EdgeOfFacet>            m_Edges;
+  const LabelOracle &                             m_Oracle;
+  const MeshState &                               m_State;
+  const BoxProtection &                           m_Box;
+  double                                          m_RadiusEdgeBound;
+  DihedralAngleBound                              m_DihedralBound;
+  mutable std::vector<Triangulation::Facet>       m_BoundaryFacets;
+  mutable std::vector<CellHandle>                 m_ConflictCells;
+  mutable std::vector<std::array<Vector3, 4>>     m_NewTetrahedra;
+  mutable std::vector<Label>                      m_NewLabels;
+  mutable std::vector<EdgeOfFacet>                m_Edges;
+  VertexLinks                                     m_Links;
+  mutable std::vector<CellHandle>                 m_SortedConflictCells;
+  mutable std::vector<VertexHandle>               m_RegionVertices;
+  mutable std::vector<CellHandle>                 m_Star;
+  mutable std::vector<VertexLinks::FacetAtVertex> m_FacetsAtVertex;
 };
 
 } // namespace detail

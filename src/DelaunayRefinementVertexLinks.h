@@ -69,6 +69,30 @@ public:
     return nonManifold;
   }
 
+  /** A triangle at a vertex, given by its edge opposite the vertex and the labels of its two tetrahedra: how a star
+   * not in the triangulation yet (an insertion being weighed, SliverSplit) is described. A null handle stands for
+   * the point being inserted. */
+  struct FacetAtVertex
+  {
+    std::array<VertexHandle, 2> edge;
+    Label                       label;
+    Label                       other;
+  };
+
+  /** As NonManifoldLabelsAt(), for the star whose triangles at the vertex are `facets`, each once. */
+  int
+  NonManifoldLabelsAmongFacets(const std::vector<FacetAtVertex> & facets) const
+  {
+    m_Links.clear();
+    for (const FacetAtVertex & facet : facets)
+    {
+      AddLinkEdges(facet.label, facet.other, facet.edge, EveryLabel);
+    }
+    int nonManifold = 0;
+    VisitLabelsNotOneCycle([&nonManifold](Label) { ++nonManifold; });
+    return nonManifold;
+  }
+
   /** The same labels, in increasing order. */
   std::vector<Label>
   ListNonManifoldLabelsAt(const Triangulation & triangulation, VertexHandle vertex,
@@ -122,20 +146,41 @@ private:
             edge[count++] = cell->vertex(corner);
           }
         }
-        if (label != BackgroundLabel && tested(label))
-        {
-          m_Links.push_back({ label, edge });
-        }
-        if (other != BackgroundLabel && tested(other))
-        {
-          m_Links.push_back({ other, edge });
-        }
-        if ((label == BackgroundLabel) != (other == BackgroundLabel) && tested(UnionKey))
-        {
-          m_Links.push_back({ UnionKey, edge });
-        }
+        AddLinkEdges(label, other, edge, tested);
       }
     }
+    VisitLabelsNotOneCycle(visit);
+  }
+
+  /** Adds the edge opposite the vertex in a triangle between tetrahedra of `label` and `other` (different) to the
+   * links it is on: each tissue's, and the union's when one side is the background. */
+  template <typename TTested>
+  void
+  AddLinkEdges(Label label, Label other, const std::array<VertexHandle, 2> & edge, TTested && tested) const
+  {
+    if (label == other)
+    {
+      return;
+    }
+    if (label != BackgroundLabel && tested(label))
+    {
+      m_Links.push_back({ label, edge });
+    }
+    if (other != BackgroundLabel && tested(other))
+    {
+      m_Links.push_back({ other, edge });
+    }
+    if ((label == BackgroundLabel) != (other == BackgroundLabel) && tested(UnionKey))
+    {
+      m_Links.push_back({ UnionKey, edge });
+    }
+  }
+
+  /** Calls visit(label) for each label whose link in m_Links is not one cycle, in increasing order. */
+  template <typename TVisit>
+  void
+  VisitLabelsNotOneCycle(TVisit && visit) const
+  {
     std::sort(m_Links.begin(), m_Links.end(), [](const LinkEdge & a, const LinkEdge & b) { return a.label < b.label; });
     for (auto first = m_Links.begin(); first != m_Links.end();)
     {
