@@ -74,6 +74,9 @@ struct RefinementStatistics
   std::size_t topologyRelabelledTetrahedra{ 0 };
   /** Tetrahedra flat to rounding on a boundary, given the label beyond it (docs/algorithm.md, "Flat caps"). */
   std::size_t flatCapsRelabelled{ 0 };
+  /** Tetrahedra flat to rounding inside a tissue removed from the output by an edge removal (docs/algorithm.md,
+   * "Flat tetrahedra inside a tissue"). */
+  std::size_t flatTetrahedraRemovedByEdgeRemoval{ 0 };
   /** The smallest local δ the refinement used (δ itself unless the manifold refinement refined somewhere):
    * Lemma 2's edge bounds hold with it. */
   double finestSurfaceSamplingDistance{ 0.0 };

@@ -30,6 +30,7 @@
 // - DelaunayRefinementManifoldRepair.h: local refinement where a tissue's boundary is not a manifold;
 // - DelaunayRefinementTopologyRelabel.h: tetrahedra relabelled where a boundary is not a manifold;
 // - DelaunayRefinementFlatCaps.h: tetrahedra flat to rounding on a boundary;
+// - DelaunayRefinementFlatTetrahedronRemoval.h: those inside a tissue that no move removes, by an edge removal;
 // - DelaunayRefinementExtraction.h: the output mesh.
 // This is the only translation unit that includes CGAL's triangulation: one slow compile.
 
@@ -37,6 +38,7 @@
 #include "DelaunayRefinementBoxProtection.h"
 #include "DelaunayRefinementExtraction.h"
 #include "DelaunayRefinementFlatCaps.h"
+#include "DelaunayRefinementFlatTetrahedronRemoval.h"
 #include "DelaunayRefinementTopologyRelabel.h"
 #include "DelaunayRefinementManifoldRepair.h"
 #include "DelaunayRefinementMeshState.h"
@@ -104,6 +106,8 @@ public:
     PeelFlatCaps();
     const auto      extractionStart = std::chrono::steady_clock::now();
     TetrahedralMesh mesh = m_Extraction.ExtractMesh(m_Sizing);
+    m_Statistics.flatTetrahedraRemovedByEdgeRemoval =
+      FlatTetrahedronRemoval(m_Oracle, m_Parameters.radiusEdgeBound).Remove(mesh);
     m_Statistics.topologyRelabelledTetrahedra = mesh.topologyRelabelledTetrahedra.size();
     const auto end = std::chrono::steady_clock::now();
 

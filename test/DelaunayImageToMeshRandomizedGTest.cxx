@@ -1089,6 +1089,17 @@ TEST(RandomizedRegression, FlatTetrahedraLeftAfterTheRefinementAreMovedAway)
                                       { Family::Mixed, 8000162 } });
 }
 
+/** Tetrahedra flat to rounding inside a tissue that no move of a corner removes: δ = 1.055683 is a hair below
+ * h/√2 = 1.055701 for voxels of 1.49299 mm, so the surface samples on the faces of one-voxel lines are that hair
+ * more than δ apart, and every move breaks Lemma 2's spacing to one of them (SheetsAndLines 3006723, found by a
+ * search of seeds 6,000-12,999: 6 flat tetrahedra). They are removed from the output by an edge removal
+ * (docs/algorithm.md, "Flat tetrahedra inside a tissue"); the case must mesh and pass every check, Lemma 2's among
+ * them, and have none. */
+TEST(RandomizedRegression, FlatTetrahedraNoMoveRemovesAreRemovedWithAnEdge)
+{
+  ExpectMeshedWithoutFlatTetrahedra({ { Family::SheetsAndLines, 3006723 } });
+}
+
 /** A tetrahedron flat to rounding on the background must not become a tissue's when the relabelling at non-manifold
  * places moves it: its corners are nearly co-circular, so its radius-edge ratio is small, and only a flatness test
  * keeps it out. A search over 1,500 cases per family (σ = 0 in all three) found SaltAndPepper 2001483 with three,

@@ -1,0 +1,375 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef DelaunayRefinementFlatTetrahedronRemoval_h
+#define DelaunayRefinementFlatTetrahedronRemoval_h
+
+// The last resort for a tetrahedron flat to rounding inside a tissue (docs/algorithm.md, "Flat tetrahedra inside a
+// tissue"): in the extracted mesh, one of its edges is removed, the ring of tetrahedra around it replaced by the
+// tetrahedra joining the edge's two ends to a triangulation of the ring's link polygon (an edge removal, as in
+// TetGen and Shewchuk's "Two discrete optimization algorithms for the topological improvement of tetrahedral
+// meshes", 2002). Only where the ring lies inside one tissue, so no boundary or interface triangle changes, and
+// only when every new tetrahedron keeps the guarantees: positive volume that is not flat to rounding, radius-edge
+// ratio < ρ, and the tissue's label at its circumcentre (the output's invariant). The mesh is then no longer
+// Delaunay there, which no guarantee needs. It is for the flat tetrahedra that no move of a corner removes: where
+// the surface samples of the voxel lattice are barely more than δ apart, every move breaks Lemma 2's spacing.
+
+#include "DelaunayRefinementGeometry.h"
+#include "DelaunayRefinementOracle.h"
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <utility>
+#include <vector>
+
+namespace delaunay_refinement
+{
+namespace detail
+{
+
+class FlatTetrahedronRemoval
+{
+public:
+  /** The largest ring (tetrahedra around the edge) tried: its link polygon has at most 42 triangulations. */
+  static constexpr std::size_t LargestRing = 7;
+
+  FlatTetrahedronRemoval(const LabelOracle & oracle, double radiusEdgeBound)
+    : m_Oracle(oracle)
+    , m_RadiusEdgeBound(radiusEdgeBound)
+  {}
+
+  /** Removes the tetrahedra of a tissue flat to rounding where an edge removal can (see the file's comment);
+   * returns how many. The mesh's other tetrahedra keep their order; the new ones come at the end. */
+  std::size_t
+  Remove(TetrahedralMesh & mesh)
+  {
+    std::vector<uint32_t> flat;
+    for (uint32_t t = 0; t < mesh.tetrahedra.size(); ++t)
+    {
+      if (mesh.tetrahedronLabels[t] != BackgroundLabel && IsFlatToRounding(CornersOf(mesh, t)))
+      {
+        flat.push_back(t);
+      }
+    }
+    if (flat.empty())
+    {
+      return 0;
+    }
+    BuildIncidence(mesh);
+    m_Removed.assign(mesh.tetrahedra.size(), 0);
+    MarkRelabelled(mesh);
+    std::size_t removed = 0;
+    for (const uint32_t t : flat)
+    {
+      if (!m_Removed[t] && RemoveAnEdgeOf(mesh, t))
+      {
+        ++removed;
+      }
+    }
+    if (removed > 0)
+    {
+      Compact(mesh);
+    }
+    return removed;
+  }
+
+private:
+  using Tetrahedron = std::array<uint32_t, 4>;
+  using Triangle = std::array<uint32_t, 3>;
+
+  static std::array<Vector3, 4>
+  CornersOf(const TetrahedralMesh & mesh, const Tetrahedron & tetrahedron)
+  {
+    return {
+      mesh.points[tetrahedron[0]], mesh.points[tetrahedron[1]], mesh.points[tetrahedron[2]], mesh.points[tetrahedron[3]]
+    };
+  }
+
+  static std::array<Vector3, 4>
+  CornersOf(const TetrahedralMesh & mesh, uint32_t t)
+  {
+    return CornersOf(mesh, mesh.tetrahedra[t]);
+  }
+
+  void
+  BuildIncidence(const TetrahedralMesh & mesh)
+  {
+    m_Incident.assign(mesh.points.size(), {});
+    for (uint32_t t = 0; t < mesh.tetrahedra.size(); ++t)
+    {
+      for (const uint32_t vertex : mesh.tetrahedra[t])
+      {
+        m_Incident[vertex].push_back(t);
+      }
+    }
+  }
+
+  /** A relabelled tetrahedron (docs/algorithm.md, "Topology") does not carry the label at its circumcentre; its
+   * ring is left alone. */
+  void
+  MarkRelabelled(const TetrahedralMesh & mesh)
+  {
+    m_Relabelled.assign(mesh.tetrahedra.size(), 0);
+    for (const uint32_t t : mesh.topologyRelabelledTetrahedra)
+    {
+      m_Relabelled[t] = 1;
+    }
+  }
+
+  /** Tries the flat tetrahedron's six edges in a fixed order; the first removal that keeps the guarantees is made. */
+  bool
+  RemoveAnEdgeOf(TetrahedralMesh & mesh, uint32_t flat)
+  {
+    const Tetrahedron corners = mesh.tetrahedra[flat];
+    for (int first = 0; first < 4; ++first)
+    {
+      for (int second = first + 1; second < 4; ++second)
+      {
+        if (RemoveEdge(mesh, corners[first], corners[second], mesh.tetrahedronLabels[flat]))
+        {
+          return true;
+        }
+      }
+    }
+    return false;
+  }
+
+  /** Removes the edge (a, b) when its ring is inside `label` and a triangulation of its link polygon gives
+   * tetrahedra that keep the guarantees; among those, the one whose smallest dihedral angle is largest. */
+  bool
+  RemoveEdge(TetrahedralMesh & mesh, uint32_t a, uint32_t b, Label label)
+  {
+    std::vector<uint32_t> ring;
+    for (const uint32_t t : m_Incident[a])
+    {
+      const Tetrahedron & tetrahedron = mesh.tetrahedra[t];
+      if (!m_Removed[t] && std::find(tetrahedron.begin(), tetrahedron.end(), b) != tetrahedron.end())
+      {
+        if (mesh.tetrahedronLabels[t] != label || m_Relabelled[t])
+        {
+          return false;
+        }
+        ring.push_back(t);
+      }
+    }
+    if (ring.size() < 3 || ring.size() > LargestRing)
+    {
+      return false;
+    }
+    const std::optional<std::vector<uint32_t>> polygon = LinkPolygon(mesh, ring, a, b);
+    if (!polygon)
+    {
+      return false;
+    }
+    std::vector<Tetrahedron> best;
+    double                   bestCosine = 2.0;
+    ForEachTriangulation(*polygon, [&](const std::vector<Triangle> & triangles) {
+      std::vector<Tetrahedron> created;
+      double                   largestCosine = -1.0;
+      for (const Triangle & triangle : triangles)
+      {
+        for (const uint32_t apex : { a, b })
+        {
+          std::optional<Tetrahedron> tetrahedron = Oriented(mesh, apex, triangle);
+          if (!tetrahedron || !KeepsTheGuarantees(mesh, *tetrahedron, label))
+          {
+            return;
+          }
+          largestCosine = std::max(largestCosine, CosineOfSmallestDihedralAngle(CornersOf(mesh, *tetrahedron)));
+          created.push_back(*tetrahedron);
+        }
+      }
+      if (largestCosine < bestCosine)
+      {
+        bestCosine = largestCosine;
+        best = std::move(created);
+      }
+    });
+    if (best.empty())
+    {
+      return false;
+    }
+    for (const uint32_t t : ring)
+    {
+      m_Removed[t] = 1;
+    }
+    for (const Tetrahedron & tetrahedron : best)
+    {
+      const auto t = static_cast<uint32_t>(mesh.tetrahedra.size());
+      mesh.tetrahedra.push_back(tetrahedron);
+      mesh.tetrahedronLabels.push_back(label);
+      m_Removed.push_back(0);
+      m_Relabelled.push_back(0);
+      for (const uint32_t vertex : tetrahedron)
+      {
+        m_Incident[vertex].push_back(t);
+      }
+    }
+    return true;
+  }
+
+  /** The ring's link around the edge (a, b), as a cycle of vertices: each tetrahedron of the ring gives one of its
+   * edges. None when they do not make one cycle. */
+  static std::optional<std::vector<uint32_t>>
+  LinkPolygon(const TetrahedralMesh & mesh, const std::vector<uint32_t> & ring, uint32_t a, uint32_t b)
+  {
+    std::vector<std::array<uint32_t, 2>> edges;
+    for (const uint32_t t : ring)
+    {
+      std::array<uint32_t, 2> edge{};
+      int                     count = 0;
+      for (const uint32_t vertex : mesh.tetrahedra[t])
+      {
+        if (vertex != a && vertex != b)
+        {
+          edge[count++] = vertex;
+        }
+      }
+      edges.push_back(edge);
+    }
+    std::vector<uint32_t> polygon{ edges[0][0], edges[0][1] };
+    std::vector<char>     used(edges.size(), 0);
+    used[0] = 1;
+    while (polygon.size() < edges.size())
+    {
+      bool extended = false;
+      for (std::size_t index = 0; index < edges.size() && !extended; ++index)
+      {
+        if (used[index] || (edges[index][0] != polygon.back() && edges[index][1] != polygon.back()))
+        {
+          continue;
+        }
+        const uint32_t next = edges[index][0] == polygon.back() ? edges[index][1] : edges[index][0];
+        if (std::find(polygon.begin(), polygon.end(), next) != polygon.end())
+        {
+          return std::nullopt;
+        }
+        polygon.push_back(next);
+        used[index] = 1;
+        extended = true;
+      }
+      if (!extended)
+      {
+        return std::nullopt;
+      }
+    }
+    // The last edge closes the cycle.
+    const auto   closing = std::find(used.begin(), used.end(), 0);
+    const auto & last = edges[static_cast<std::size_t>(closing - used.begin())];
+    const bool   closes = (last[0] == polygon.back() && last[1] == polygon.front()) ||
+                        (last[1] == polygon.back() && last[0] == polygon.front());
+    return closes ? std::optional<std::vector<uint32_t>>(polygon) : std::nullopt;
+  }
+
+  /** Calls visit(triangles) for each triangulation of the polygon (vertices in cyclic order), by the usual
+   * recursion: the triangle on the edge from the first to the last vertex, with each apex in turn. */
+  template <typename TVisit>
+  static void
+  ForEachTriangulation(const std::vector<uint32_t> & polygon, TVisit && visit)
+  {
+    std::vector<Triangle>                                                       triangles;
+    const std::function<void(std::vector<std::pair<std::size_t, std::size_t>>)> recurse =
+      [&](std::vector<std::pair<std::size_t, std::size_t>> pending) {
+        if (pending.empty())
+        {
+          visit(triangles);
+          return;
+        }
+        const auto [first, last] = pending.back();
+        pending.pop_back();
+        if (last - first < 2)
+        {
+          recurse(pending);
+          return;
+        }
+        for (std::size_t apex = first + 1; apex < last; ++apex)
+        {
+          triangles.push_back({ polygon[first], polygon[apex], polygon[last] });
+          std::vector<std::pair<std::size_t, std::size_t>> next = pending;
+          next.emplace_back(first, apex);
+          next.emplace_back(apex, last);
+          recurse(next);
+          triangles.pop_back();
+        }
+      };
+    recurse({ { 0, polygon.size() - 1 } });
+  }
+
+  /** The tetrahedron (apex, triangle) in the extraction's form: indices increasing, the last two swapped when
+   * that is needed for a positive volume. None when it is flat to rounding. */
+  static std::optional<Tetrahedron>
+  Oriented(const TetrahedralMesh & mesh, uint32_t apex, const Triangle & triangle)
+  {
+    Tetrahedron tetrahedron{ apex, triangle[0], triangle[1], triangle[2] };
+    std::sort(tetrahedron.begin(), tetrahedron.end());
+    const std::array<Vector3, 4> corners = CornersOf(mesh, tetrahedron);
+    if (IsFlatToRounding(corners))
+    {
+      return std::nullopt;
+    }
+    if (SignedVolume(corners) < 0.0)
+    {
+      std::swap(tetrahedron[2], tetrahedron[3]);
+    }
+    return tetrahedron;
+  }
+
+  bool
+  KeepsTheGuarantees(const TetrahedralMesh & mesh, const Tetrahedron & tetrahedron, Label label) const
+  {
+    const std::array<Vector3, 4> corners = CornersOf(mesh, tetrahedron);
+    return RadiusEdgeRatio(corners) < m_RadiusEdgeBound && m_Oracle.LabelAt(TetrahedronCircumcenter(corners)) == label;
+  }
+
+  /** Drops the removed tetrahedra, keeping the others' order, and renumbers the relabelling list. */
+  void
+  Compact(TetrahedralMesh & mesh) const
+  {
+    std::vector<uint32_t> newIndex(mesh.tetrahedra.size(), 0);
+    uint32_t              kept = 0;
+    for (uint32_t t = 0; t < mesh.tetrahedra.size(); ++t)
+    {
+      newIndex[t] = kept;
+      if (!m_Removed[t])
+      {
+        mesh.tetrahedra[kept] = mesh.tetrahedra[t];
+        mesh.tetrahedronLabels[kept] = mesh.tetrahedronLabels[t];
+        ++kept;
+      }
+    }
+    mesh.tetrahedra.resize(kept);
+    mesh.tetrahedronLabels.resize(kept);
+    for (uint32_t & t : mesh.topologyRelabelledTetrahedra)
+    {
+      t = newIndex[t];
+    }
+  }
+
+  const LabelOracle &                m_Oracle;
+  double                             m_RadiusEdgeBound;
+  std::vector<std::vector<uint32_t>> m_Incident;
+  std::vector<char>                  m_Removed;
+  std::vector<char>                  m_Relabelled;
+};
+
+} // namespace detail
+} // namespace delaunay_refinement
+
+#endif

@@ -1,0 +1,216 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+
+// The edge removal that takes tetrahedra flat to rounding out of a tissue
+// (src/DelaunayRefinementFlatTetrahedronRemoval.h, docs/algorithm.md, "Flat tetrahedra inside a tissue"), on the
+// smallest mesh that has one: an octahedron whose square is split by one diagonal above and by the other below, the
+// flat tetrahedron of the square's four corners between them. Volumes, orientation and conformity are computed here
+// from the coordinates.
+
+#include "DelaunayRefinementFlatTetrahedronRemoval.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <vector>
+
+namespace dr = delaunay_refinement;
+
+namespace
+{
+
+/** Label 1 everywhere near the octahedron. */
+class TissueEverywhere : public dr::LabelOracle
+{
+public:
+  dr::Label
+  LabelAt(const dr::Vector3 &) const override
+  {
+    return 1;
+  }
+  dr::AxisAlignedBox
+  ObjectBounds() const override
+  {
+    return { { { -2.0, -2.0, -2.0 } }, { { 2.0, 2.0, 2.0 } } };
+  }
+  dr::SurfacePoint
+  ClosestSurfacePoint(const dr::Vector3 & query) const override
+  {
+    return { query, 0.0 };
+  }
+  double
+  SurfaceTolerance() const override
+  {
+    return 1e-9;
+  }
+};
+
+enum Corner : uint32_t
+{
+  A,
+  B,
+  C,
+  D,
+  Above,
+  Below
+};
+
+/** The square A B C D on the unit circle of z = 0, split by A C above (apex at z = 1) and by B D below (z = -1),
+ * and the flat tetrahedron A B C D, each tetrahedron with positive volume. */
+dr::TetrahedralMesh
+OctahedronWithAFlatTetrahedron()
+{
+  dr::TetrahedralMesh mesh;
+  mesh.points = { { { 1.0, 0.0, 0.0 } },  { { 0.0, 1.0, 0.0 } }, { { -1.0, 0.0, 0.0 } },
+                  { { 0.0, -1.0, 0.0 } }, { { 0.0, 0.0, 1.0 } }, { { 0.0, 0.0, -1.0 } } };
+  mesh.pointKinds.assign(mesh.points.size(), dr::VertexKind::Free);
+  mesh.tetrahedra = { { A, B, C, D }, { A, B, C, Above }, { A, C, D, Above }, { A, B, D, Below }, { B, C, D, Below } };
+  for (auto & tetrahedron : mesh.tetrahedra)
+  {
+    const std::array<dr::Vector3, 4> corners{
+      mesh.points[tetrahedron[0]], mesh.points[tetrahedron[1]], mesh.points[tetrahedron[2]], mesh.points[tetrahedron[3]]
+    };
+    if (dr::SignedVolume(corners) < 0.0)
+    {
+      std::swap(tetrahedron[2], tetrahedron[3]);
+    }
+  }
+  mesh.tetrahedronLabels.assign(mesh.tetrahedra.size(), 1);
+  return mesh;
+}
+
+double
+SignedVolumeOf(const dr::TetrahedralMesh & mesh, const std::array<uint32_t, 4> & t)
+{
+  const auto from = [&](int corner) {
+    const dr::Vector3 & p = mesh.points[t[corner]];
+    const dr::Vector3 & o = mesh.points[t[0]];
+    return std::array<double, 3>{ { p[0] - o[0], p[1] - o[1], p[2] - o[2] } };
+  };
+  const std::array<double, 3> b = from(1);
+  const std::array<double, 3> c = from(2);
+  const std::array<double, 3> d = from(3);
+  return (b[0] * (c[1] * d[2] - c[2] * d[1]) - b[1] * (c[0] * d[2] - c[2] * d[0]) +
+          b[2] * (c[0] * d[1] - c[1] * d[0])) /
+         6.0;
+}
+
+/** How many tetrahedra each triangle is a face of. */
+std::map<std::array<uint32_t, 3>, int>
+FaceUses(const dr::TetrahedralMesh & mesh)
+{
+  std::map<std::array<uint32_t, 3>, int> uses;
+  for (const auto & t : mesh.tetrahedra)
+  {
+    for (int skipped = 0; skipped < 4; ++skipped)
+    {
+      std::array<uint32_t, 3> face{};
+      int                     count = 0;
+      for (int corner = 0; corner < 4; ++corner)
+      {
+        if (corner != skipped)
+        {
+          face[count++] = t[corner];
+        }
+      }
+      std::sort(face.begin(), face.end());
+      ++uses[face];
+    }
+  }
+  return uses;
+}
+
+TEST(FlatTetrahedronRemoval, TakesTheFlatTetrahedronOutOfAnOctahedron)
+{
+  const TissueEverywhere oracle;
+  dr::TetrahedralMesh    mesh = OctahedronWithAFlatTetrahedron();
+  ASSERT_NEAR(SignedVolumeOf(mesh, mesh.tetrahedra[0]), 0.0, 1e-15) << "the square's tetrahedron is flat";
+
+  EXPECT_EQ(dr::detail::FlatTetrahedronRemoval(oracle, 2.0).Remove(mesh), 1u);
+
+  ASSERT_EQ(mesh.tetrahedra.size(), 4u);
+  ASSERT_EQ(mesh.tetrahedronLabels.size(), 4u);
+  double total = 0.0;
+  for (const auto & t : mesh.tetrahedra)
+  {
+    const double volume = SignedVolumeOf(mesh, t);
+    EXPECT_GT(volume, 0.1) << "no tetrahedron is flat or inverted";
+    total += volume;
+  }
+  EXPECT_NEAR(total, 4.0 / 3.0, 1e-12) << "the octahedron is filled once";
+  // Conforming: every face inside is shared by two tetrahedra, and the octahedron's 8 faces by one.
+  int outer = 0;
+  for (const auto & [face, uses] : FaceUses(mesh))
+  {
+    EXPECT_LE(uses, 2);
+    outer += uses == 1;
+  }
+  EXPECT_EQ(outer, 8);
+}
+
+TEST(FlatTetrahedronRemoval, LeavesTetrahedraOfAnotherTissueAsTheyAre)
+{
+  const TissueEverywhere oracle;
+  dr::TetrahedralMesh    mesh = OctahedronWithAFlatTetrahedron();
+  // The ring around A C holds a tetrahedron of tissue 2: only B D's ring, all of tissue 1, may be removed.
+  mesh.tetrahedronLabels[1] = 2;
+  const std::array<uint32_t, 4> otherTissue = mesh.tetrahedra[1];
+
+  EXPECT_EQ(dr::detail::FlatTetrahedronRemoval(oracle, 2.0).Remove(mesh), 1u);
+
+  ASSERT_EQ(mesh.tetrahedra.size(), 4u);
+  EXPECT_EQ(mesh.tetrahedra[0], otherTissue) << "the other tissue's tetrahedron keeps its place";
+  EXPECT_EQ(mesh.tetrahedronLabels[0], 2);
+  for (const auto & t : mesh.tetrahedra)
+  {
+    EXPECT_GT(SignedVolumeOf(mesh, t), 0.1);
+  }
+  for (const auto & [face, uses] : FaceUses(mesh))
+  {
+    EXPECT_LE(uses, 2);
+  }
+}
+
+TEST(FlatTetrahedronRemoval, KeepsTheMeshWhenEveryRingMixesTissues)
+{
+  const TissueEverywhere oracle;
+  dr::TetrahedralMesh    mesh = OctahedronWithAFlatTetrahedron();
+  mesh.tetrahedronLabels[1] = 2;
+  mesh.tetrahedronLabels[3] = 2;
+  const dr::TetrahedralMesh before = mesh;
+
+  EXPECT_EQ(dr::detail::FlatTetrahedronRemoval(oracle, 2.0).Remove(mesh), 0u);
+
+  EXPECT_EQ(mesh.tetrahedra, before.tetrahedra);
+  EXPECT_EQ(mesh.tetrahedronLabels, before.tetrahedronLabels);
+}
+
+TEST(FlatTetrahedronRemoval, KeepsTheMeshWhenTheNewTetrahedraWouldReachRho)
+{
+  const TissueEverywhere    oracle;
+  dr::TetrahedralMesh       mesh = OctahedronWithAFlatTetrahedron();
+  const dr::TetrahedralMesh before = mesh;
+  // The new tetrahedra have radius-edge ratio 1/sqrt(2): a bound below that refuses them.
+  EXPECT_EQ(dr::detail::FlatTetrahedronRemoval(oracle, 0.7).Remove(mesh), 0u);
+  EXPECT_EQ(mesh.tetrahedra, before.tetrahedra);
+}
+
+} // namespace
