@@ -36,6 +36,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -133,7 +134,9 @@ private:
     }
   }
 
-  /** Tries the flat tetrahedron's six edges in a fixed order; the first removal that keeps the guarantees is made. */
+  /** Tries the flat tetrahedron's six edges in a fixed order, each with a ring inside its tissue; the first
+   * removal that keeps the guarantees is made. Then, for a flat tetrahedron on an interface, its edges whose ring
+   * is inside the other tissue (FlipInterfaceDiagonal). */
   bool
   RemoveAnEdgeOf(TetrahedralMesh & mesh, uint32_t flat)
   {
@@ -142,7 +145,17 @@ private:
     {
       for (int second = first + 1; second < 4; ++second)
       {
-        if (RemoveEdge(mesh, corners[first], corners[second], mesh.tetrahedronLabels[flat]))
+        if (RemoveEdge(mesh, corners[first], corners[second], mesh.tetrahedronLabels[flat], flat))
+        {
+          return true;
+        }
+      }
+    }
+    for (int first = 0; first < 4; ++first)
+    {
+      for (int second = first + 1; second < 4; ++second)
+      {
+        if (FlipInterfaceDiagonal(mesh, flat, first, second))
         {
           return true;
         }
@@ -151,10 +164,151 @@ private:
     return false;
   }
 
-  /** Removes the edge (a, b) when its ring is inside `label` and a triangulation of its link polygon gives
-   * tetrahedra that keep the guarantees; among those, the one whose smallest dihedral angle is largest. */
+  /** A flat tetrahedron (a, b, x, y) of tissue L1 whose two facets at the edge (a, b) are on an interface with
+   * tissue L2, every other tetrahedron around (a, b) being of L2, and whose two other facets are inside L1, every
+   * tetrahedron around (x, y) being of L1: the interface there is the flat quadrilateral a x b y, split along
+   * (a, b). Removing (a, b) as if the flat tetrahedron were of L2 splits it along (x, y) instead: the new
+   * tetrahedra are of L2 and the interface triangles (a, b, x), (a, b, y) become (a, x, y), (b, x, y), in the
+   * same plane. Such a flip within a surface keeps each boundary a manifold: (a, b) leaves the mesh, and (x, y)
+   * was on no boundary. The new triangles must keep angles > 30°. */
   bool
-  RemoveEdge(TetrahedralMesh & mesh, uint32_t a, uint32_t b, Label label)
+  FlipInterfaceDiagonal(TetrahedralMesh & mesh, uint32_t flat, int first, int second)
+  {
+    const Tetrahedron       corners = mesh.tetrahedra[flat];
+    const uint32_t          a = corners[first];
+    const uint32_t          b = corners[second];
+    std::array<uint32_t, 2> opposite{};
+    int                     count = 0;
+    for (int corner = 0; corner < 4; ++corner)
+    {
+      if (corner != first && corner != second)
+      {
+        opposite[count++] = corners[corner];
+      }
+    }
+    const auto [x, y] = opposite;
+    const Label                own = mesh.tetrahedronLabels[flat];
+    const std::optional<Label> other = LabelAroundEdgeBesides(mesh, a, b, flat);
+    if (!other || *other == own || LabelAroundEdgeBesides(mesh, x, y, flat) != std::optional<Label>(own) ||
+        !HasPlanarAnglesAbove30Degrees(mesh.points[a], mesh.points[x], mesh.points[y]) ||
+        !HasPlanarAnglesAbove30Degrees(mesh.points[b], mesh.points[x], mesh.points[y]) ||
+        !RemoveEdge(mesh, a, b, *other, flat))
+    {
+      return false;
+    }
+    // The interface triangles, each oriented out of the smaller label's tetrahedron as the extraction does.
+    const auto isOld = [&](const Triangle & triangle) {
+      Triangle sorted = triangle;
+      std::sort(sorted.begin(), sorted.end());
+      return sorted == Sorted({ a, b, x }) || sorted == Sorted({ a, b, y });
+    };
+    std::vector<std::pair<Triangle, std::array<Label, 2>>> triangles;
+    for (std::size_t index = 0; index < mesh.boundaryTriangles.size(); ++index)
+    {
+      if (!isOld(mesh.boundaryTriangles[index]))
+      {
+        triangles.emplace_back(mesh.boundaryTriangles[index], mesh.boundaryTriangleLabels[index]);
+      }
+    }
+    const Label smaller = std::min(own, *other);
+    const Label larger = std::max(own, *other);
+    for (const uint32_t apex : { a, b })
+    {
+      // Oriented out of the smaller label's tetrahedron on it.
+      const Triangle triangle{ apex, x, y };
+      const uint32_t inside = FourthVertexOfTetrahedronWith(mesh, triangle, smaller);
+      triangles.emplace_back(OrientedAwayFrom(mesh, triangle, inside), std::array<Label, 2>{ smaller, larger });
+    }
+    std::sort(triangles.begin(), triangles.end());
+    mesh.boundaryTriangles.clear();
+    mesh.boundaryTriangleLabels.clear();
+    for (const auto & [triangle, labels] : triangles)
+    {
+      mesh.boundaryTriangles.push_back(triangle);
+      mesh.boundaryTriangleLabels.push_back(labels);
+    }
+    return true;
+  }
+
+  /** The label of every tetrahedron around the edge (a, b) but `skipped`, if they share one. */
+  std::optional<Label>
+  LabelAroundEdgeBesides(const TetrahedralMesh & mesh, uint32_t a, uint32_t b, uint32_t skipped) const
+  {
+    std::optional<Label> label;
+    for (const uint32_t t : m_Incident[a])
+    {
+      const Tetrahedron & tetrahedron = mesh.tetrahedra[t];
+      if (t == skipped || m_Removed[t] || std::find(tetrahedron.begin(), tetrahedron.end(), b) == tetrahedron.end())
+      {
+        continue;
+      }
+      if (label && *label != mesh.tetrahedronLabels[t])
+      {
+        return std::nullopt;
+      }
+      label = mesh.tetrahedronLabels[t];
+    }
+    return label;
+  }
+
+  static Triangle
+  Sorted(Triangle triangle)
+  {
+    std::sort(triangle.begin(), triangle.end());
+    return triangle;
+  }
+
+  /** The vertex opposite `triangle` in the (live) tetrahedron of `label` that has it as a facet. */
+  uint32_t
+  FourthVertexOfTetrahedronWith(const TetrahedralMesh & mesh, const Triangle & triangle, Label label) const
+  {
+    for (const uint32_t t : m_Incident[triangle[0]])
+    {
+      const Tetrahedron & tetrahedron = mesh.tetrahedra[t];
+      if (m_Removed[t] || mesh.tetrahedronLabels[t] != label)
+      {
+        continue;
+      }
+      std::optional<uint32_t> fourth;
+      int                     shared = 0;
+      for (const uint32_t vertex : tetrahedron)
+      {
+        if (std::find(triangle.begin(), triangle.end(), vertex) != triangle.end())
+        {
+          ++shared;
+        }
+        else
+        {
+          fourth = vertex;
+        }
+      }
+      if (shared == 3 && fourth)
+      {
+        return *fourth;
+      }
+    }
+    throw std::logic_error("FlatTetrahedronRemoval: an interface triangle has no tetrahedron on one side");
+  }
+
+  /** The triangle with its normal (right hand) pointing away from `inside`, its smallest index first, as the
+   * extraction writes them. */
+  static Triangle
+  OrientedAwayFrom(const TetrahedralMesh & mesh, Triangle triangle, uint32_t inside)
+  {
+    if (SignedVolume(
+          { mesh.points[triangle[0]], mesh.points[triangle[1]], mesh.points[triangle[2]], mesh.points[inside] }) > 0.0)
+    {
+      std::swap(triangle[1], triangle[2]);
+    }
+    std::rotate(triangle.begin(), std::min_element(triangle.begin(), triangle.end()), triangle.end());
+    return triangle;
+  }
+
+  /** Removes the edge (a, b) when its ring is inside `label` (the flat tetrahedron `flat` aside) and a
+   * triangulation of its link polygon gives tetrahedra of `label` that keep the guarantees; among those, the one
+   * whose smallest dihedral angle is largest. */
+  bool
+  RemoveEdge(TetrahedralMesh & mesh, uint32_t a, uint32_t b, Label label, uint32_t flat)
   {
     std::vector<uint32_t> ring;
     for (const uint32_t t : m_Incident[a])
@@ -162,7 +316,7 @@ private:
       const Tetrahedron & tetrahedron = mesh.tetrahedra[t];
       if (!m_Removed[t] && std::find(tetrahedron.begin(), tetrahedron.end(), b) != tetrahedron.end())
       {
-        if (mesh.tetrahedronLabels[t] != label || m_Relabelled[t])
+        if ((t != flat && mesh.tetrahedronLabels[t] != label) || m_Relabelled[t])
         {
           return false;
         }

@@ -213,4 +213,56 @@ TEST(FlatTetrahedronRemoval, KeepsTheMeshWhenTheNewTetrahedraWouldReachRho)
   EXPECT_EQ(mesh.tetrahedra, before.tetrahedra);
 }
 
+/** Tissue 2 above z = 0 (the origin included), tissue 1 below. */
+class TwoTissues : public TissueEverywhere
+{
+public:
+  dr::Label
+  LabelAt(const dr::Vector3 & point) const override
+  {
+    return point[2] >= 0.0 ? 2 : 1;
+  }
+};
+
+TEST(FlatTetrahedronRemoval, FlipsTheDiagonalOfAnInterface)
+{
+  // The flat tetrahedron is of tissue 1, below the interface; the tetrahedra above are of tissue 2. Removing B D
+  // inside tissue 1 would make tetrahedra whose circumcentre (the origin) is in tissue 2: refused. Removing A C as
+  // if the flat tetrahedron were of tissue 2 flips the interface from A B C, A C D to A B D, B C D.
+  const TwoTissues    oracle;
+  dr::TetrahedralMesh mesh = OctahedronWithAFlatTetrahedron();
+  mesh.tetrahedronLabels = { 1, 2, 2, 1, 1 };
+  mesh.boundaryTriangles = { { A, B, C }, { A, C, D } };
+  mesh.boundaryTriangleLabels = { { 1, 2 }, { 1, 2 } };
+
+  EXPECT_EQ(dr::detail::FlatTetrahedronRemoval(oracle, 2.0).Remove(mesh), 1u);
+
+  ASSERT_EQ(mesh.tetrahedra.size(), 4u);
+  for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
+  {
+    EXPECT_GT(SignedVolumeOf(mesh, mesh.tetrahedra[t]), 0.1);
+    const bool above =
+      std::find(mesh.tetrahedra[t].begin(), mesh.tetrahedra[t].end(), Above) != mesh.tetrahedra[t].end();
+    EXPECT_EQ(mesh.tetrahedronLabels[t], above ? 2 : 1) << "tissue 2 above, tissue 1 below";
+  }
+  ASSERT_EQ(mesh.boundaryTriangles.size(), 2u);
+  std::vector<std::array<uint32_t, 3>> sorted;
+  for (std::size_t index = 0; index < 2; ++index)
+  {
+    const auto & triangle = mesh.boundaryTriangles[index];
+    EXPECT_EQ(mesh.boundaryTriangleLabels[index], (std::array<dr::Label, 2>{ 1, 2 }));
+    // Oriented out of tissue 1 (the smaller label), below: the normal points up.
+    const dr::Vector3 & p = mesh.points[triangle[0]];
+    const dr::Vector3 & q = mesh.points[triangle[1]];
+    const dr::Vector3 & r = mesh.points[triangle[2]];
+    const double        normalZ = (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+    EXPECT_GT(normalZ, 0.0);
+    std::array<uint32_t, 3> copy = triangle;
+    std::sort(copy.begin(), copy.end());
+    sorted.push_back(copy);
+  }
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_EQ(sorted, (std::vector<std::array<uint32_t, 3>>{ { A, B, D }, { B, C, D } }));
+}
+
 } // namespace
