@@ -241,8 +241,34 @@ public:
                                 std::to_string(m_Parameters.maximumNumberOfVertices) +
                                 " vertices before every rule was satisfied; raise the limit or the surface sampling "
                                 "distance (delta = " +
-                                DescribeValue(m_Parameters.surfaceSamplingDistance) + ")");
+                                DescribeValue(m_Parameters.surfaceSamplingDistance) + ")" + UnprovenTerminationHint());
     }
+  }
+
+  /** Termination is proven for radius-edge bound ρ >= 2 and σ = 0 only (docs/algorithm.md, "Guarantees"): below
+   * that, R4 and R4′ can keep making work for each other (the randomized suite found ρ = 1 with σ = 14° and 19°
+   * running to the cap), so the message names the parameters that may be the cause. */
+  std::string
+  UnprovenTerminationHint() const
+  {
+    const bool rhoBelowTwo = m_Parameters.radiusEdgeBound < 2.0;
+    const bool sigmaOn = m_Parameters.minimumDihedralAngle > 0.0;
+    if (!rhoBelowTwo && !sigmaOn)
+    {
+      return "";
+    }
+    std::string hint = "; termination is proven only for radius-edge bound rho >= 2 and minimum dihedral angle "
+                       "sigma = 0, and this run has";
+    if (rhoBelowTwo)
+    {
+      hint += " rho = " + DescribeValue(m_Parameters.radiusEdgeBound);
+    }
+    if (sigmaOn)
+    {
+      hint += std::string(rhoBelowTwo ? " and" : "") + " sigma = " + DescribeValue(m_Parameters.minimumDihedralAngle) +
+              " degrees";
+    }
+    return hint + ": a larger rho or a smaller sigma may let it end";
   }
 
   /** Inserts `point`; returns no handle when the point is already a vertex. */
