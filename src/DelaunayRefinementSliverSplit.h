@@ -477,16 +477,7 @@ private:
           {
             continue;
           }
-          std::array<VertexHandle, 2> edge{};
-          int                         count = 0;
-          for (int corner = 0; corner < 4; ++corner)
-          {
-            if (corner != facet && corner != own)
-            {
-              edge[count++] = cell->vertex(corner);
-            }
-          }
-          m_FacetsAtVertex.push_back({ edge, LabelOf(cell), LabelOf(neighbor) });
+          m_FacetsAtVertex.push_back({ VertexLinks::LinkEdgeOf(cell, own, facet), LabelOf(cell), LabelOf(neighbor) });
         }
       }
       // The region's boundary facets at the vertex, between a tetrahedron that stays and a new one.

@@ -69,6 +69,23 @@ public:
     return nonManifold;
   }
 
+  /** The edge opposite the cell's corner `own` in its facet `facet` (facet != own): the facet's contribution to
+   * that corner's link. */
+  static std::array<VertexHandle, 2>
+  LinkEdgeOf(CellHandle cell, int own, int facet)
+  {
+    std::array<VertexHandle, 2> edge{};
+    int                         count = 0;
+    for (int corner = 0; corner < 4; ++corner)
+    {
+      if (corner != facet && corner != own)
+      {
+        edge[count++] = cell->vertex(corner);
+      }
+    }
+    return edge;
+  }
+
   /** A triangle at a vertex, given by its edge opposite the vertex and the labels of its two tetrahedra: how a star
    * not in the triangulation yet (an insertion being weighed, SliverSplit) is described. A null handle stands for
    * the point being inserted. */
@@ -137,16 +154,7 @@ private:
         {
           continue;
         }
-        std::array<VertexHandle, 2> edge{};
-        int                         count = 0;
-        for (int corner = 0; corner < 4; ++corner)
-        {
-          if (corner != facet && corner != own)
-          {
-            edge[count++] = cell->vertex(corner);
-          }
-        }
-        AddLinkEdges(label, other, edge, tested);
+        AddLinkEdges(label, other, LinkEdgeOf(cell, own, facet), tested);
       }
     }
     VisitLabelsNotOneCycle(visit);
