@@ -297,6 +297,7 @@ private:
       return false;
     }
     m_BoundaryFacets.clear();
+    m_EdgesFound = false;
     m_ConflictCells.clear();
     triangulation.find_conflicts(
       cgalPoint, start, std::back_inserter(m_BoundaryFacets), std::back_inserter(m_ConflictCells));
@@ -399,6 +400,12 @@ private:
   void
   FindEdgesOfBoundaryFacets() const
   {
+    // The acceptance test and the manifold test both ask for them, for the same candidate.
+    if (m_EdgesFound)
+    {
+      return;
+    }
+    m_EdgesFound = true;
     m_Edges.clear();
     for (std::size_t index = 0; index < m_BoundaryFacets.size(); ++index)
     {
@@ -597,16 +604,18 @@ private:
     std::size_t  facet;
   };
 
-  const LabelOracle &                             m_Oracle;
-  const MeshState &                               m_State;
-  const BoxProtection &                           m_Box;
-  double                                          m_RadiusEdgeBound;
-  DihedralAngleBound                              m_DihedralBound;
-  mutable std::vector<Triangulation::Facet>       m_BoundaryFacets;
-  mutable std::vector<CellHandle>                 m_ConflictCells;
-  mutable std::vector<std::array<Vector3, 4>>     m_NewTetrahedra;
-  mutable std::vector<Label>                      m_NewLabels;
-  mutable std::vector<EdgeOfFacet>                m_Edges;
+  const LabelOracle &                         m_Oracle;
+  const MeshState &                           m_State;
+  const BoxProtection &                       m_Box;
+  double                                      m_RadiusEdgeBound;
+  DihedralAngleBound                          m_DihedralBound;
+  mutable std::vector<Triangulation::Facet>   m_BoundaryFacets;
+  mutable std::vector<CellHandle>             m_ConflictCells;
+  mutable std::vector<std::array<Vector3, 4>> m_NewTetrahedra;
+  mutable std::vector<Label>                  m_NewLabels;
+  mutable std::vector<EdgeOfFacet>            m_Edges;
+  /** Whether m_Edges holds the edges of m_BoundaryFacets (FindConflicts clears it). */
+  mutable bool                                    m_EdgesFound{ false };
   VertexLinks                                     m_Links;
   mutable std::vector<CellHandle>                 m_SortedConflictCells;
   mutable std::vector<VertexHandle>               m_RegionVertices;
