@@ -139,9 +139,13 @@ public:
       {
         const Candidate & candidate = candidates[index];
         VertexHandle &    vertex = vertices[candidate.corner];
-        const Vector3     from = m_State.PointOf(vertex);
-        const double      cosineBefore = LargestCosineAmongTissueCells(StarOf(vertex));
-        const int         nonManifoldBefore = CountNonManifoldAroundBefore(vertex);
+        if (m_KeepsLemma2 && IsNearerThanTheFinestDeltaToANeighbor(vertex, candidate.point))
+        {
+          continue;
+        }
+        const Vector3 from = m_State.PointOf(vertex);
+        const double  cosineBefore = LargestCosineAmongTissueCells(StarOf(vertex));
+        const int     nonManifoldBefore = CountNonManifoldAroundBefore(vertex);
         vertex = m_State.MoveVertex(vertex, candidate.point, m_NewCells);
         if (IsAccepted(vertex, cosineBefore, nonManifoldBefore, acceptance))
         {
@@ -417,6 +421,24 @@ private:
     }
     std::sort(m_NeighborsBefore.begin(), m_NeighborsBefore.end());
     return m_Links.NonManifoldLabelsAt(triangulation, vertex, StarOf(vertex));
+  }
+
+  /** Whether `point` is nearer than the finest δ to a neighbour of `vertex`: then moving the vertex there fails
+   * KeepsLemma2Spacing() surely (the moved point's nearest vertex is its neighbour after the move, no farther than
+   * that one, and every spacing bound is at least the finest δ), and the move is not made. Where the surface
+   * samples are exactly δ apart (δ = h/√2 for voxels of h), every move of a flat tetrahedron's corner is such a
+   * move, and making and undoing them all took minutes (the atlas phantom at δ = 0.70710678 mm ran 10 minutes
+   * without ending). */
+  bool
+  IsNearerThanTheFinestDeltaToANeighbor(VertexHandle vertex, const Vector3 & point) const
+  {
+    const Triangulation & triangulation = m_State.GetTriangulation();
+    const double          finest = m_Sizing.FinestDelta();
+    m_Neighbors.clear();
+    triangulation.adjacent_vertices(vertex, std::back_inserter(m_Neighbors));
+    return std::any_of(m_Neighbors.begin(), m_Neighbors.end(), [&](VertexHandle neighbor) {
+      return !triangulation.is_infinite(neighbor) && Distance(point, m_State.PointOf(neighbor)) < finest;
+    });
   }
 
   /** Lemma 2 at the moved vertex, as the refinement keeps it with σ = 0: every edge at least the local δ long
