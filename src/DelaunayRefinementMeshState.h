@@ -172,6 +172,16 @@ public:
     return m_Triangulation.is_infinite(neighbor) ? BackgroundLabel : neighbor->cache.label;
   }
 
+  /** The cell's corners in lexicographic order: unlike its vertex ids, they name it across a move of a corner that
+   * was undone, which gives the vertex a new id (MoveVertex). */
+  std::array<Vector3, 4>
+  SortedCornersOf(CellHandle cell) const
+  {
+    std::array<Vector3, 4> corners = CornersOf(cell);
+    std::sort(corners.begin(), corners.end());
+    return corners;
+  }
+
   static std::array<VertexId, 4>
   SortedVertexIds(CellHandle cell)
   {

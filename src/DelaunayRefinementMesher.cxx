@@ -175,7 +175,7 @@ private:
     }
     const SliverSplit::Split split = m_SliverSplit.Choose(cell, center, cell->cache.squaredRadius);
     if (!split.accepted && FlatCaps::IsCapOnBackground(m_State, cell) &&
-        m_SliversThatCannotBePeeled.count(SortedCorners(cell)) == 0)
+        m_SliversThatCannotBePeeled.count(m_State.SortedCornersOf(cell)) == 0)
     {
       ++m_Statistics.sliverCapsLeftToPeel;
       m_SliversLeftToPeel.push_back(
@@ -304,7 +304,7 @@ private:
       });
       for (const CellHandle cell : peeled.sliversKept)
       {
-        m_SliversThatCannotBePeeled.insert(SortedCorners(cell));
+        m_SliversThatCannotBePeeled.insert(m_State.SortedCornersOf(cell));
         Enqueue(cell);
       }
       m_Statistics.sliverCapsThatCouldNotBePeeled += peeled.sliversKept.size();
@@ -313,16 +313,6 @@ private:
       peeled = flatCaps.Relabel();
     }
     m_Statistics.flatCapsRelabelled = peeled.relabelled.size();
-  }
-
-  /** A tetrahedron's corners in lexicographic order: they name it across a move of a corner that was undone, which
-   * gives the vertex a new id (SliverPerturbation). */
-  std::array<Vector3, 4>
-  SortedCorners(CellHandle cell) const
-  {
-    std::array<Vector3, 4> corners = m_State.CornersOf(cell);
-    std::sort(corners.begin(), corners.end());
-    return corners;
   }
 
   struct FlatCellVertices

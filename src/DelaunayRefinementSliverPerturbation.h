@@ -117,9 +117,7 @@ public:
   Perturb(CellHandle sliver, Acceptance lastResort = Acceptance::EveryRule)
   {
     const std::array<Vector3, 4> corners = m_State.CornersOf(sliver);
-    std::array<Vector3, 4>       key = corners;
-    std::sort(key.begin(), key.end());
-    if (!m_Tried.insert(key).second)
+    if (!m_Tried.insert(m_State.SortedCornersOf(sliver)).second)
     {
       return Outcome::NotTried;
     }
