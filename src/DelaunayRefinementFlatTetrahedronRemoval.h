@@ -35,6 +35,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <utility>
@@ -74,6 +75,7 @@ public:
       return 0;
     }
     BuildIncidence(mesh);
+    m_InterfaceTriangles.clear();
     m_Removed.assign(mesh.tetrahedra.size(), 0);
     MarkRelabelled(mesh);
     std::size_t removed = 0;
@@ -87,6 +89,7 @@ public:
     if (removed > 0)
     {
       Compact(mesh);
+      WriteFlippedInterfaceTriangles(mesh);
     }
     return removed;
   }
@@ -197,27 +200,41 @@ private:
       return false;
     }
     // The interface triangles, each oriented out of the smaller label's tetrahedron as the extraction does.
-    const auto isOld = [&](const Triangle & triangle) {
-      Triangle sorted = triangle;
-      std::sort(sorted.begin(), sorted.end());
-      return sorted == Sorted({ a, b, x }) || sorted == Sorted({ a, b, y });
-    };
-    std::vector<std::pair<Triangle, std::array<Label, 2>>> triangles;
-    for (std::size_t index = 0; index < mesh.boundaryTriangles.size(); ++index)
+    if (m_InterfaceTriangles.empty())
     {
-      if (!isOld(mesh.boundaryTriangles[index]))
+      for (std::size_t index = 0; index < mesh.boundaryTriangles.size(); ++index)
       {
-        triangles.emplace_back(mesh.boundaryTriangles[index], mesh.boundaryTriangleLabels[index]);
+        m_InterfaceTriangles.emplace(Sorted(mesh.boundaryTriangles[index]),
+                                     std::make_pair(mesh.boundaryTriangles[index], mesh.boundaryTriangleLabels[index]));
       }
     }
+    m_InterfaceTriangles.erase(Sorted({ a, b, x }));
+    m_InterfaceTriangles.erase(Sorted({ a, b, y }));
     const Label smaller = std::min(own, *other);
     const Label larger = std::max(own, *other);
     for (const uint32_t apex : { a, b })
     {
-      // Oriented out of the smaller label's tetrahedron on it.
       const Triangle triangle{ apex, x, y };
       const uint32_t inside = FourthVertexOfTetrahedronWith(mesh, triangle, smaller);
-      triangles.emplace_back(OrientedAwayFrom(mesh, triangle, inside), std::array<Label, 2>{ smaller, larger });
+      m_InterfaceTriangles[Sorted(triangle)] = { OrientedAwayFrom(mesh, triangle, inside),
+                                                 std::array<Label, 2>{ smaller, larger } };
+    }
+    return true;
+  }
+
+  /** The boundary and interface triangles after the flips, in the extraction's order; once, after every flip:
+   * each flip changes two of them, and there may be hundreds of thousands. */
+  void
+  WriteFlippedInterfaceTriangles(TetrahedralMesh & mesh) const
+  {
+    if (m_InterfaceTriangles.empty())
+    {
+      return;
+    }
+    std::vector<std::pair<Triangle, std::array<Label, 2>>> triangles;
+    for (const auto & [key, triangle] : m_InterfaceTriangles)
+    {
+      triangles.push_back(triangle);
     }
     std::sort(triangles.begin(), triangles.end());
     mesh.boundaryTriangles.clear();
@@ -227,7 +244,22 @@ private:
       mesh.boundaryTriangles.push_back(triangle);
       mesh.boundaryTriangleLabels.push_back(labels);
     }
-    return true;
+  }
+
+  /** The tetrahedra of the mesh (not removed) that have (a, b) as an edge. */
+  std::vector<uint32_t>
+  TetrahedraAroundEdge(const TetrahedralMesh & mesh, uint32_t a, uint32_t b) const
+  {
+    std::vector<uint32_t> ring;
+    for (const uint32_t t : m_Incident[a])
+    {
+      const Tetrahedron & tetrahedron = mesh.tetrahedra[t];
+      if (!m_Removed[t] && std::find(tetrahedron.begin(), tetrahedron.end(), b) != tetrahedron.end())
+      {
+        ring.push_back(t);
+      }
+    }
+    return ring;
   }
 
   /** The label of every tetrahedron around the edge (a, b) but `skipped`, if they share one. */
@@ -235,10 +267,9 @@ private:
   LabelAroundEdgeBesides(const TetrahedralMesh & mesh, uint32_t a, uint32_t b, uint32_t skipped) const
   {
     std::optional<Label> label;
-    for (const uint32_t t : m_Incident[a])
+    for (const uint32_t t : TetrahedraAroundEdge(mesh, a, b))
     {
-      const Tetrahedron & tetrahedron = mesh.tetrahedra[t];
-      if (t == skipped || m_Removed[t] || std::find(tetrahedron.begin(), tetrahedron.end(), b) == tetrahedron.end())
+      if (t == skipped)
       {
         continue;
       }
@@ -310,17 +341,12 @@ private:
   bool
   RemoveEdge(TetrahedralMesh & mesh, uint32_t a, uint32_t b, Label label, uint32_t flat)
   {
-    std::vector<uint32_t> ring;
-    for (const uint32_t t : m_Incident[a])
+    const std::vector<uint32_t> ring = TetrahedraAroundEdge(mesh, a, b);
+    for (const uint32_t t : ring)
     {
-      const Tetrahedron & tetrahedron = mesh.tetrahedra[t];
-      if (!m_Removed[t] && std::find(tetrahedron.begin(), tetrahedron.end(), b) != tetrahedron.end())
+      if ((t != flat && mesh.tetrahedronLabels[t] != label) || m_Relabelled[t])
       {
-        if ((t != flat && mesh.tetrahedronLabels[t] != label) || m_Relabelled[t])
-        {
-          return false;
-        }
-        ring.push_back(t);
+        return false;
       }
     }
     if (ring.size() < 3 || ring.size() > LargestRing)
@@ -521,6 +547,9 @@ private:
   std::vector<std::vector<uint32_t>> m_Incident;
   std::vector<char>                  m_Removed;
   std::vector<char>                  m_Relabelled;
+  /** The boundary and interface triangles by their sorted indices, each as written and with its labels; filled at
+   * the first flip of an interface (FlipInterfaceDiagonal), empty when there is none. */
+  std::map<Triangle, std::pair<Triangle, std::array<Label, 2>>> m_InterfaceTriangles;
 };
 
 } // namespace detail
