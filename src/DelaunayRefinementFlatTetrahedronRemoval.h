@@ -361,6 +361,10 @@ private:
     std::vector<Tetrahedron> best;
     double                   bestCosine = 2.0;
     ForEachTriangulation(*polygon, [&](const std::vector<Triangle> & triangles) {
+      if (!FillsTheRing(mesh, a, b, triangles))
+      {
+        return;
+      }
       std::vector<Tetrahedron> created;
       double                   largestCosine = -1.0;
       for (const Triangle & triangle : triangles)
@@ -401,6 +405,31 @@ private:
       {
         m_Incident[vertex].push_back(t);
       }
+    }
+    return true;
+  }
+
+  /** Whether the tetrahedra joining a and b to the triangles (the link polygon's, in its cyclic order) fill the ring
+   * and nothing else: a on one side of every triangle, the same for all, and b on the other (Shewchuk's condition
+   * for an edge removal). Where the ring is not convex around the edge, other triangulations give tetrahedra that
+   * overlap the ring's neighbours (found at δ = h/√2 on the atlas phantom: tetrahedra twice in the mesh). */
+  static bool
+  FillsTheRing(const TetrahedralMesh & mesh, uint32_t a, uint32_t b, const std::vector<Triangle> & triangles)
+  {
+    int sideOfA = 0;
+    for (const Triangle & triangle : triangles)
+    {
+      const Vector3 & p = mesh.points[triangle[0]];
+      const Vector3 & q = mesh.points[triangle[1]];
+      const Vector3 & r = mesh.points[triangle[2]];
+      const double    volumeWithA = SignedVolume({ mesh.points[a], p, q, r });
+      const double    volumeWithB = SignedVolume({ mesh.points[b], p, q, r });
+      const int       side = volumeWithA > 0.0 ? 1 : -1;
+      if (!(volumeWithA * volumeWithB < 0.0) || (sideOfA != 0 && side != sideOfA))
+      {
+        return false;
+      }
+      sideOfA = side;
     }
     return true;
   }

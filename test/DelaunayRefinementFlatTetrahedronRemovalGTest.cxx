@@ -166,6 +166,50 @@ TEST(FlatTetrahedronRemoval, TakesTheFlatTetrahedronOutOfAnOctahedron)
   EXPECT_EQ(outer, 8);
 }
 
+/** The ring around the z axis's edge from (0, 0, 1) to (0, 0, -1) over the pentagon (1, 0), (2, 0), (0, 1), (-1, 0),
+ * (0, -1) of z = 0, whose first two corners are on one ray from the axis: their tetrahedron with the edge is flat. The
+ * pentagon is not convex at (1, 0), and the triangulations with the diagonal from (0, -1) to (2, 0) put a triangle
+ * outside it: joined to the edge's ends, it makes tetrahedra outside the ring, which must not be made (a and b must
+ * see every triangle from its two sides, the same two for all). */
+TEST(FlatTetrahedronRemoval, FillsOnlyTheRingWhereItIsNotConvex)
+{
+  const TissueEverywhere oracle;
+  dr::TetrahedralMesh    mesh;
+  mesh.points = { { { 0.0, 0.0, 1.0 } }, { { 0.0, 0.0, -1.0 } }, { { 1.0, 0.0, 0.0 } }, { { 2.0, 0.0, 0.0 } },
+                  { { 0.0, 1.0, 0.0 } }, { { -1.0, 0.0, 0.0 } }, { { 0.0, -1.0, 0.0 } } };
+  mesh.pointKinds.assign(mesh.points.size(), dr::VertexKind::Free);
+  mesh.tetrahedra = { { 0, 1, 2, 3 }, { 0, 1, 3, 4 }, { 0, 1, 4, 5 }, { 0, 1, 5, 6 }, { 0, 1, 6, 2 } };
+  for (auto & tetrahedron : mesh.tetrahedra)
+  {
+    if (SignedVolumeOf(mesh, tetrahedron) < 0.0)
+    {
+      std::swap(tetrahedron[2], tetrahedron[3]);
+    }
+  }
+  mesh.tetrahedronLabels.assign(mesh.tetrahedra.size(), 1);
+  ASSERT_NEAR(SignedVolumeOf(mesh, mesh.tetrahedra[0]), 0.0, 1e-15) << "the first tetrahedron is flat";
+
+  // ρ large: the shapes of the new tetrahedra do not decide here, only whether they fill the ring.
+  EXPECT_EQ(dr::detail::FlatTetrahedronRemoval(oracle, 100.0).Remove(mesh), 1u);
+
+  double total = 0.0;
+  for (const auto & t : mesh.tetrahedra)
+  {
+    const double volume = SignedVolumeOf(mesh, t);
+    EXPECT_GT(volume, 0.01) << "no tetrahedron is flat or inverted";
+    total += volume;
+  }
+  // Two pyramids of height 1 over the pentagon, of area 2.5.
+  EXPECT_NEAR(total, 5.0 / 3.0, 1e-12) << "the ring is filled once, and nothing beyond it";
+  int outer = 0;
+  for (const auto & [face, uses] : FaceUses(mesh))
+  {
+    EXPECT_LE(uses, 2);
+    outer += uses == 1;
+  }
+  EXPECT_EQ(outer, 10);
+}
+
 TEST(FlatTetrahedronRemoval, LeavesTetrahedraOfAnotherTissueAsTheyAre)
 {
   const TissueEverywhere oracle;
