@@ -231,13 +231,21 @@ PlanarAngles(const Vector3 & a, const Vector3 & b, const Vector3 & c)
   return { angleAt(a, b, c), angleAt(b, c, a), angleAt(c, a, b) };
 }
 
-/** Theorem 2's bound on boundary triangles: every planar angle above 30°. For the steps that put an existing
- * triangle on a boundary without R3 (flat caps, the relabelling at non-manifold places), which must keep it. */
+/** How far above 30° a triangle's smallest angle must be, in degrees, for HasPlanarAnglesAbove30Degrees: far above
+ * rounding, far below anything a mesh could show. The voxel lattice makes triangles of exactly 30° (two voxel-face
+ * centres h/√2 from a third and h·√(3/2) apart), and two correct formulas give 29.999999999999996° and
+ * 30.00000000000003° for one of them (found on the atlas phantom at δ = 0.70710678 mm): without the margin, whether
+ * the bound holds would depend on who measures. */
+constexpr double PlanarAngleBoundMarginDegrees = 1e-9;
+
+/** Theorem 2's bound on boundary triangles: every planar angle above 30°, by PlanarAngleBoundMarginDegrees. For the
+ * steps that put an existing triangle on a boundary without R3 (flat caps, the relabelling at non-manifold places,
+ * R4′'s new triangles, the interface flips), which must keep it. */
 inline bool
 HasPlanarAnglesAbove30Degrees(const Vector3 & a, const Vector3 & b, const Vector3 & c)
 {
   const std::array<double, 3> angles = PlanarAngles(a, b, c);
-  return *std::min_element(angles.begin(), angles.end()) > 30.0;
+  return *std::min_element(angles.begin(), angles.end()) > 30.0 + PlanarAngleBoundMarginDegrees;
 }
 
 /** The circumradius of a triangle, |ab| |bc| |ca| / (4 area). Coincident corners give 0 / 0: infinity is returned
