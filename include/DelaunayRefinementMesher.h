@@ -77,6 +77,9 @@ struct RefinementStatistics
   /** Tetrahedra flat to rounding inside a tissue removed from the output by an edge removal (docs/algorithm.md,
    * "Flat tetrahedra inside a tissue"). */
   std::size_t flatTetrahedraRemovedByEdgeRemoval{ 0 };
+  /** Tetrahedra flat to rounding that the edge removal could not take out, removed by a move of a corner that may
+   * break Lemma 2's spacing (docs/algorithm.md, "Flat tetrahedra inside a tissue"). */
+  std::size_t flatTetrahedraMovedBelowSpacing{ 0 };
   /** The smallest local δ the refinement used (δ itself unless the manifold refinement refined somewhere):
    * Lemma 2's edge bounds hold with it. */
   double finestSurfaceSamplingDistance{ 0.0 };

@@ -155,7 +155,15 @@ struct TetrahedralMesh
   /** The tetrahedra (indices, increasing) whose label is not the one at their circumcentre but a neighbour's, given
    * where a boundary was not a 2-manifold (docs/algorithm.md, "Topology"). */
   std::vector<uint32_t> topologyRelabelledTetrahedra;
+  /** The points (indices, increasing) moved to remove a tetrahedron flat to rounding that nothing else removed: their
+   * edges keep only LastResortSpacingFraction of Lemma 2's bounds (docs/algorithm.md, "Flat tetrahedra inside a
+   * tissue"). Empty in almost every mesh. */
+  std::vector<uint32_t> pointsMovedBelowSpacing;
 };
+
+/** The share of Lemma 2's edge bounds that a move removing a tetrahedron flat to rounding must keep when no move
+ * keeps all of it and no edge removal takes the tetrahedron out (TetrahedralMesh::pointsMovedBelowSpacing). */
+constexpr double LastResortSpacingFraction = 0.99;
 
 } // namespace delaunay_refinement
 

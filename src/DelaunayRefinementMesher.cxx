@@ -105,9 +105,7 @@ public:
     RepairTopology();
     PeelFlatCaps();
     const auto      extractionStart = std::chrono::steady_clock::now();
-    TetrahedralMesh mesh = m_Extraction.ExtractMesh(m_Sizing);
-    m_Statistics.flatTetrahedraRemovedByEdgeRemoval =
-      FlatTetrahedronRemoval(m_Oracle, m_Parameters.radiusEdgeBound).Remove(mesh);
+    TetrahedralMesh mesh = ExtractWithoutFlatTetrahedra();
     m_Statistics.topologyRelabelledTetrahedra = mesh.topologyRelabelledTetrahedra.size();
     const auto end = std::chrono::steady_clock::now();
 
@@ -293,8 +291,9 @@ private:
   void
   PeelFlatCaps()
   {
-    const FlatCaps        flatCaps(m_State, m_Repair, m_Parameters.minimumDihedralAngle);
-    FlatCaps::Relabelling peeled = flatCaps.Relabel();
+    const FlatCaps          flatCaps(m_State, m_Repair, m_Parameters.minimumDihedralAngle);
+    FlatCaps::Relabelling & peeled = m_PeeledCaps;
+    peeled = flatCaps.Relabel();
     for (int round = 0; !peeled.sliversKept.empty() && round < SliversThatCannotBePeeledRounds; ++round)
     {
       peeled.Undo();
@@ -313,6 +312,78 @@ private:
       peeled = flatCaps.Relabel();
     }
     m_Statistics.flatCapsRelabelled = peeled.relabelled.size();
+  }
+
+  /** The mesh, with its tetrahedra flat to rounding taken out by an edge removal (FlatTetrahedronRemoval). Those
+   * it cannot take out get a move of a corner that keeps only part of Lemma 2's spacing (SliverPerturbation, the
+   * level SpacingMayBreak), and the refinement, the repairs and the extraction run again, once: the spacing is
+   * short only where nothing else removed a flat tetrahedron, and the mesh lists those points. */
+  TetrahedralMesh
+  ExtractWithoutFlatTetrahedra()
+  {
+    TetrahedralMesh                        mesh = ExtractAndRemoveFlatTetrahedra();
+    const std::set<std::array<Vector3, 4>> left = FlatTissueTetrahedraOf(mesh);
+    if (left.empty())
+    {
+      return mesh;
+    }
+    // The rules read labels as the oracle's.
+    m_PeeledCaps.Undo();
+    m_Relabelling.Revert();
+    m_SliverPerturbation.ForgetTried();
+    for (const FlatCellVertices & corners :
+         FindFlatTetrahedra([&](CellHandle cell) { return left.count(m_State.SortedCornersOf(cell)) > 0; }))
+    {
+      CellHandle cell;
+      if (IsStillThere(corners, cell))
+      {
+        m_Statistics.flatTetrahedraMovedBelowSpacing +=
+          Perturb(cell, SliverPerturbation::Acceptance::SpacingMayBreak) == SliverPerturbation::Outcome::Moved;
+      }
+    }
+    RefineAndPerturbFlatTetrahedra();
+    RepairTopology();
+    PeelFlatCaps();
+    mesh = ExtractAndRemoveFlatTetrahedra();
+    const std::set<Vector3> & moved = m_SliverPerturbation.MovedBelowSpacing();
+    for (uint32_t point = 0; point < mesh.points.size(); ++point)
+    {
+      if (moved.count(mesh.points[point]) > 0)
+      {
+        mesh.pointsMovedBelowSpacing.push_back(point);
+      }
+    }
+    return mesh;
+  }
+
+  TetrahedralMesh
+  ExtractAndRemoveFlatTetrahedra()
+  {
+    TetrahedralMesh mesh = m_Extraction.ExtractMesh(m_Sizing);
+    m_Statistics.flatTetrahedraRemovedByEdgeRemoval =
+      FlatTetrahedronRemoval(m_Oracle, m_Parameters.radiusEdgeBound).Remove(mesh);
+    return mesh;
+  }
+
+  /** The tissue tetrahedra of the extracted mesh flat to rounding, by their corners in lexicographic order. */
+  static std::set<std::array<Vector3, 4>>
+  FlatTissueTetrahedraOf(const TetrahedralMesh & mesh)
+  {
+    std::set<std::array<Vector3, 4>> flat;
+    for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
+    {
+      std::array<Vector3, 4> corners{};
+      for (int corner = 0; corner < 4; ++corner)
+      {
+        corners[corner] = mesh.points[mesh.tetrahedra[t][corner]];
+      }
+      if (mesh.tetrahedronLabels[t] != BackgroundLabel && IsFlatToRounding(corners))
+      {
+        std::sort(corners.begin(), corners.end());
+        flat.insert(corners);
+      }
+    }
+    return flat;
   }
 
   struct FlatCellVertices
@@ -353,16 +424,24 @@ private:
     }
   }
 
-  /** The tissue tetrahedra flat to rounding, in a fixed order: the cells' container order can follow memory
-   * addresses after vertex removals. */
+  /** The tissue tetrahedra flat to rounding, in a fixed order. */
   std::vector<FlatCellVertices>
   FindFlatTissueTetrahedra() const
+  {
+    return FindFlatTetrahedra([](CellHandle cell) { return cell->cache.label != BackgroundLabel; });
+  }
+
+  /** The tetrahedra flat to rounding that `select` keeps, in a fixed order: the cells' container order can follow
+   * memory addresses after vertex removals. */
+  template <typename TSelect>
+  std::vector<FlatCellVertices>
+  FindFlatTetrahedra(TSelect && select) const
   {
     const Triangulation &         triangulation = m_State.GetTriangulation();
     std::vector<FlatCellVertices> flat;
     for (auto cell = triangulation.finite_cells_begin(); cell != triangulation.finite_cells_end(); ++cell)
     {
-      if (cell->cache.label != BackgroundLabel && IsFlatToRounding(m_State.CornersOf(cell)))
+      if (IsFlatToRounding(m_State.CornersOf(cell)) && select(cell))
       {
         flat.push_back(
           { { cell->vertex(0), cell->vertex(1), cell->vertex(2), cell->vertex(3) }, MeshState::SortedVertexIds(cell) });
@@ -558,7 +637,9 @@ private:
   std::vector<QueueEntry> m_SliversLeftToPeel;
   /** The slivers (their corners) the flat-cap step could not peel off: R4′ splits them, caps or not. */
   std::set<std::array<Vector3, 4>> m_SliversThatCannotBePeeled;
-  double                           m_ProgressFraction{ 0.0 };
+  /** The flat caps the last flat-cap step relabelled (PeelFlatCaps), to undo before the refinement resumes. */
+  FlatCaps::Relabelling m_PeeledCaps;
+  double                m_ProgressFraction{ 0.0 };
 };
 
 } // namespace

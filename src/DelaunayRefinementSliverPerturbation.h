@@ -26,12 +26,12 @@
 // tetrahedron it creates (so radius-edge < ρ, the δ rules and the 30° bound of R3 hold there), every boundary
 // triangle it creates has surface vertices only, no vertex it touches becomes non-manifold, the smallest dihedral
 // angle of the tissue tetrahedra it creates is larger than that of the moved vertex's star before, and, with σ = 0,
-// Lemma 2's spacing holds at the moved vertex. Otherwise the vertex is moved back, which restores the
-// triangulation exactly (MeshState::MoveVertex). A tetrahedron flat to rounding left after the refinement may be
-// moved under a relaxed test (Acceptance), the refinement resuming after it. Each accepted move raises the local
-// smallest angle, and each sliver is tried once per pass, so the process ends. This is the perturbation of CGAL's
-// sliver perturber and of Tournois et al. (Perturbing slivers in 3D Delaunay meshes, 2009), held to the refinement's
-// own bounds instead of to the angle alone.
+// Lemma 2's spacing holds at the moved vertex (99 % of it at the last level, SpacingMayBreak). Otherwise the vertex is
+// moved back, which restores the triangulation exactly (MeshState::MoveVertex). A tetrahedron flat to rounding left
+// after the refinement may be moved under a relaxed test (Acceptance), the refinement resuming after it. Each accepted
+// move raises the local smallest angle, and each sliver is tried once per pass, so the process ends. This is the
+// perturbation of CGAL's sliver perturber and of Tournois et al. (Perturbing slivers in 3D Delaunay meshes, 2009), held
+// to the refinement's own bounds instead of to the angle alone.
 
 #include "DelaunayRefinementBoxProtection.h"
 #include "DelaunayRefinementGeometry.h"
@@ -107,7 +107,14 @@ public:
     RefinementMayFollow,
     /** As RefinementMayFollow, and a vertex may become non-manifold (in sheets thinner than δ, every move of a
      * corner may change a link). */
-    NonManifoldMayFollow
+    NonManifoldMayFollow,
+    /** As NonManifoldMayFollow, and with σ = 0 the moved vertex keeps only LastResortSpacingFraction of Lemma 2's
+     * spacing. Only for the flat tetrahedra that every level before and the edge removal of the extracted mesh left
+     * (Refiner::ExtractWithoutFlatTetrahedra): where the surface samples sit on a lattice about δ apart every move
+     * breaks the spacing (δ ≤ h/√2 for voxels of h: four voxel-face centres around a voxel edge make a flat square
+     * inside a tissue; the atlas phantom at δ = 0.70710678 mm kept 52). A singular element is worse for a solver
+     * than an edge 1 % shorter than δ. The moved vertices are remembered (MovedBelowSpacing). */
+    SpacingMayBreak
   };
 
   /** Tries to remove the sliver `cell` by moving one of its corners (see the file's comment). Deterministic: the
@@ -137,7 +144,7 @@ public:
       {
         const Candidate & candidate = candidates[index];
         VertexHandle &    vertex = vertices[candidate.corner];
-        if (m_KeepsLemma2 && IsNearerThanTheFinestDeltaToANeighbor(vertex, candidate.point))
+        if (m_KeepsLemma2 && IsNearerThanTheFinestDeltaToANeighbor(vertex, candidate.point, SpacingKeptAt(acceptance)))
         {
           continue;
         }
@@ -147,12 +154,24 @@ public:
         vertex = m_State.MoveVertex(vertex, candidate.point, m_NewCells);
         if (IsAccepted(vertex, cosineBefore, nonManifoldBefore, acceptance))
         {
+          if (acceptance == Acceptance::SpacingMayBreak && m_KeepsLemma2)
+          {
+            m_MovedBelowSpacing.insert(candidate.point);
+          }
           return Outcome::Moved;
         }
         vertex = m_State.MoveVertex(vertex, from, m_NewCells);
       }
     }
     return Outcome::Undone;
+  }
+
+  /** Where the vertices moved at the level SpacingMayBreak went, with σ = 0 (TetrahedralMesh::pointsMovedBelowSpacing).
+   */
+  const std::set<Vector3> &
+  MovedBelowSpacing() const
+  {
+    return m_MovedBelowSpacing;
   }
 
   /** Lets every sliver be tried again: once no rule applies anywhere, a move that failed because a rule still
@@ -364,11 +383,11 @@ private:
     {
       return false;
     }
-    if (m_KeepsLemma2 && !KeepsLemma2Spacing(moved))
+    if (m_KeepsLemma2 && !KeepsLemma2Spacing(moved, SpacingKeptAt(acceptance)))
     {
       return false;
     }
-    if (acceptance == Acceptance::NonManifoldMayFollow)
+    if (acceptance >= Acceptance::NonManifoldMayFollow)
     {
       return true;
     }
@@ -421,17 +440,24 @@ private:
     return m_Links.NonManifoldLabelsAt(triangulation, vertex, StarOf(vertex));
   }
 
-  /** Whether `point` is nearer than the finest δ to a neighbour of `vertex`: then moving the vertex there fails
-   * KeepsLemma2Spacing() surely (the moved point's nearest vertex is its neighbour after the move, no farther than
-   * that one, and every spacing bound is at least the finest δ), and the move is not made. Where the surface
+  /** The share of Lemma 2's spacing a move at this level keeps (with σ = 0): all of it, but at the last level. */
+  static double
+  SpacingKeptAt(Acceptance acceptance)
+  {
+    return acceptance == Acceptance::SpacingMayBreak ? LastResortSpacingFraction : 1.0;
+  }
+
+  /** Whether `point` is nearer than `share` of the finest δ to a neighbour of `vertex`: then moving the vertex there
+   * fails KeepsLemma2Spacing() surely (the moved point's nearest vertex is its neighbour after the move, no farther
+   * than that one, and every spacing bound is at least the finest δ), and the move is not made. Where the surface
    * samples are exactly δ apart (δ = h/√2 for voxels of h), every move of a flat tetrahedron's corner is such a
    * move, and making and undoing them all took minutes (the atlas phantom at δ = 0.70710678 mm ran 10 minutes
    * without ending). */
   bool
-  IsNearerThanTheFinestDeltaToANeighbor(VertexHandle vertex, const Vector3 & point) const
+  IsNearerThanTheFinestDeltaToANeighbor(VertexHandle vertex, const Vector3 & point, double share) const
   {
     const Triangulation & triangulation = m_State.GetTriangulation();
-    const double          finest = m_Sizing.FinestDelta();
+    const double          finest = share * m_Sizing.FinestDelta();
     m_Neighbors.clear();
     triangulation.adjacent_vertices(vertex, std::back_inserter(m_Neighbors));
     return std::any_of(m_Neighbors.begin(), m_Neighbors.end(), [&](VertexHandle neighbor) {
@@ -439,10 +465,10 @@ private:
     });
   }
 
-  /** Lemma 2 at the moved vertex, as the refinement keeps it with σ = 0: every edge at least the local δ long
-   * (the smaller of its ends'), min(ρ, 2) times that when an end is free, 2δ to a vertex of the box. */
+  /** Lemma 2 at the moved vertex, as the refinement keeps it with σ = 0, or `share` of it: every edge at least the
+   * local δ long (the smaller of its ends'), min(ρ, 2) times that when an end is free, 2δ to a vertex of the box. */
   bool
-  KeepsLemma2Spacing(VertexHandle moved) const
+  KeepsLemma2Spacing(VertexHandle moved, double share) const
   {
     const Triangulation & triangulation = m_State.GetTriangulation();
     const Vector3         point = m_State.PointOf(moved);
@@ -467,7 +493,7 @@ private:
       {
         bound = std::max(bound, 2.0 * m_Delta);
       }
-      if (!(Distance(point, other) >= bound))
+      if (!(Distance(point, other) >= share * bound))
       {
         return false;
       }
@@ -545,6 +571,7 @@ private:
   bool                              m_KeepsLemma2;
   VertexLinks                       m_Links;
   std::set<std::array<Vector3, 4>>  m_Tried;
+  std::set<Vector3>                 m_MovedBelowSpacing;
   std::vector<CellHandle>           m_NewCells;
   mutable std::vector<CellHandle>   m_Star;
   mutable std::vector<VertexHandle> m_Touched;

@@ -45,8 +45,9 @@ struct LocalSizingReport
 /** The exported sizing must have one value per point, each δ halved at most `levels` times (never coarser than δ:
  * a refinement that silently used a larger δ fails here); every edge with a feature end is at least the smaller
  * sampling distance at its two ends (the finest of the mesh where the sizing is not uniform, see below), every edge
- * with a free end min(ρ, 2) times that, every edge with a box end 2δ. The R4' variant (`checkFeatureAndFree` false) has
- * no bound on its feature and free edges. */
+ * with a free end min(ρ, 2) times that, every edge with a box end 2δ; when the mesh lists points moved below the
+ * spacing (TetrahedralMesh::pointsMovedBelowSpacing), every edge LastResortSpacingFraction of that. The R4' variant
+ * (`checkFeatureAndFree` false) has no bound on its feature and free edges. */
 inline LocalSizingReport
 CheckEdgesAgainstLocalSizing(const TetrahedralMesh & mesh, double delta, double rho, unsigned int levels,
                              bool checkFeatureAndFree, double roundingSlack = 1e-9)
@@ -82,6 +83,21 @@ CheckEdgesAgainstLocalSizing(const TetrahedralMesh & mesh, double delta, double 
   // neighbours as that edge: a zone's δ spreads beyond the zone, feature vertex by feature vertex (measured: Mixed
   // seed 8000314 has feature edges of 0.84 δ between points at sampling distance δ, next to zones of δ / 2). There the
   // edges are held to the finest sampling distance the mesh exports; with a uniform δ, to the δ at their ends.
+  for (std::size_t i = 0; i < mesh.pointsMovedBelowSpacing.size(); ++i)
+  {
+    const uint32_t point = mesh.pointsMovedBelowSpacing[i];
+    if (point >= mesh.points.size() || (i > 0 && point <= mesh.pointsMovedBelowSpacing[i - 1]))
+    {
+      text << "the points moved below the spacing are not increasing indices of points (" << point << ")";
+      report.problems.push_back(text.str());
+      return report;
+    }
+  }
+  // Where the mesh lists points moved to remove a tetrahedron flat to rounding that nothing else removed, their
+  // edges keep LastResortSpacingFraction of the bounds, and R3, whose threshold is a facet's shortest edge when that
+  // is below δ, carries the shorter length to the feature vertices it inserts next to them (as from the zones
+  // below): every edge is held to that fraction then, and no less.
+  const double share = mesh.pointsMovedBelowSpacing.empty() ? 1.0 : LastResortSpacingFraction;
   const double finestExported =
     *std::min_element(mesh.pointSamplingDistances.begin(), mesh.pointSamplingDistances.end());
   std::size_t tooShort = 0;
@@ -108,6 +124,7 @@ CheckEdgesAgainstLocalSizing(const TetrahedralMesh & mesh, double delta, double 
         {
           bound = std::max(bound, std::min(rho, 2.0) * local);
         }
+        bound *= share;
         const double length = Distance(mesh.points[a], mesh.points[b]);
         if (!(length >= bound * (1.0 - roundingSlack)) && tooShort++ < 3)
         {

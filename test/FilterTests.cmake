@@ -76,7 +76,8 @@ if(TARGET DelaunayImageToMeshIO)
   target_link_libraries(itkDelaunayImageToMeshFilterGTests PRIVATE
     DelaunayImageToMesh DelaunayImageToMeshIO ${ITK_LIBRARIES} GTest::gtest_main)
   target_compile_definitions(itkDelaunayImageToMeshFilterGTests PRIVATE
-    DelaunayImageToMesh_EXAMPLES_DATA="${DelaunayImageToMesh_EXAMPLES_DATA}")
+    DelaunayImageToMesh_EXAMPLES_DATA="${DelaunayImageToMesh_EXAMPLES_DATA}"
+    DelaunayImageToMesh_TEST_INPUT="${CMAKE_CURRENT_SOURCE_DIR}/Input")
   # The prefix keeps the test names apart from other GoogleTest executables' (and selects them all: -R itkDelaunay).
   math(EXPR filter_gtest_timeout "300 * ${DelaunayImageToMesh_TEST_TIMEOUT_FACTOR}")
   gtest_discover_tests(itkDelaunayImageToMeshFilterGTests
