@@ -82,6 +82,9 @@ struct CellCache
   /** The label is a neighbour's, given at a non-manifold place (DelaunayRefinementTopologyRelabel.h), not the
    * oracle's at the circumcentre. */
   bool relabelledForTopology{ false };
+  /** Scratch for SliverSplit's manifold test, true only while it runs, for the cells of the conflict region it
+   * looks at. CGAL's own scratch flag (tds_data) is not free there: incident_cells uses it. */
+  mutable bool inConflictRegion{ false };
 };
 
 /** A Delaunay cell that carries the rules' cache. */
