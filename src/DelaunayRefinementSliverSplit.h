@@ -91,7 +91,7 @@ public:
   Choose(CellHandle cell, const Vector3 & center, double squaredRadius) const
   {
     const double radius = std::sqrt(squaredRadius);
-    const Ranked best = BestCandidate(cell, center, radius, Topology::MayChange);
+    const Ranked best = BestCandidate(cell, center, radius);
     if (best.fault == Fault::Uninsertable)
     {
       return { center, VertexKind::Free, true, false };
@@ -109,18 +109,11 @@ public:
     {
       return best.split;
     }
-    const Ranked keepingTopology = BestCandidate(cell, center, radius, Topology::MustStayManifold);
+    const Ranked keepingTopology = BestKeepingTopology(cell);
     return keepingTopology.fault <= best.fault ? keepingTopology.split : best.split;
   }
 
 private:
-  /** Whether a candidate may make a boundary non-manifold where it was not. */
-  enum class Topology
-  {
-    MayChange,
-    MustStayManifold
-  };
-
   /** Why a candidate fails the acceptance test, from the mildest. */
   enum class Fault
   {
@@ -194,20 +187,97 @@ private:
     return directions;
   }
 
-  /** The best candidate (see Choose), among those that make no boundary non-manifold where it was not when
-   * `topology` says so; Fault::Uninsertable when none is insertable. */
-  Ranked
-  BestCandidate(CellHandle cell, const Vector3 & center, double radius, Topology topology) const
+  /** A candidate as the first pass (BestCandidate) found it: the second (BestKeepingTopology) goes over the same
+   * candidates in the same triangulation, and searches a conflict region again only where it must know it: for
+   * labels the first pass did not ask for, or for the manifold test. */
+  struct Evaluated
   {
-    Ranked     best;
+    Vector3    point;
+    VertexKind kind;
+    Ranked     ranked;
+    /** Whether its conflict region holds a cell of another label than the sliver's (the boundary changes surely). */
+    bool replacesAnotherLabel;
+    /** Whether the labels were asked for: `ranked` is then the whole acceptance test's result, whatever the best. */
+    bool labelled;
+  };
+
+  /** Whether a candidate (smallest angle's cosine `cosine`) cannot beat `best` whatever its new labels: an accepted
+   * best is beaten only by an accepted candidate that leaves the boundary as it is while the best changes it, or
+   * that does as the best does with a larger angle (Ranked::IsBetterThan), and a replaced cell of another label
+   * changes the boundary whatever the new labels are. */
+  static bool
+  CannotBeat(double cosine, bool replacesAnotherLabel, const Ranked & best)
+  {
+    if (!best.split.accepted)
+    {
+      return false;
+    }
+    const bool largerAngle = cosine < best.cosine;
+    return best.split.changesBoundary ? replacesAnotherLabel && !largerAngle : replacesAnotherLabel || !largerAngle;
+  }
+
+  /** Whether the search may end at `best`: accepted, leaving the boundary as it is, and reaching σ. */
+  bool
+  IsGoodEnough(const Ranked & best) const
+  {
+    return best.split.accepted && !best.split.changesBoundary && m_DihedralBound.IsReachedBy(best.cosine);
+  }
+
+  /** The best of the candidates m_Evaluated holds (the first pass's, which went over all of them: it ended early
+   * only at a candidate that leaves the boundary as it is, and then Choose needs no second pass) among those that
+   * make no boundary non-manifold where it was not; Fault::Uninsertable when none is insertable. The same choice as
+   * evaluating each again against this pass's best, without the conflict searches whose answer is known. */
+  Ranked
+  BestKeepingTopology(CellHandle cell) const
+  {
+    Ranked best;
+    for (const Evaluated & evaluated : m_Evaluated)
+    {
+      if (evaluated.ranked.fault == Fault::Uninsertable)
+      {
+        continue;
+      }
+      Ranked candidate = evaluated.ranked;
+      bool   regionIsCurrent = false;
+      if (!evaluated.labelled && !CannotBeat(evaluated.ranked.cosine, evaluated.replacesAnotherLabel, best))
+      {
+        candidate = Evaluate(evaluated.point, evaluated.kind, cell, best);
+        regionIsCurrent = true;
+      }
+      if (candidate.IsBetterThan(best))
+      {
+        if (candidate.split.changesBoundary && !regionIsCurrent)
+        {
+          Evaluate(evaluated.point, evaluated.kind, cell, Ranked());
+        }
+        if (!candidate.split.changesBoundary || !MakesANonManifoldPlace())
+        {
+          best = candidate;
+        }
+      }
+      if (IsGoodEnough(best))
+      {
+        return best;
+      }
+    }
+    return best;
+  }
+
+  /** The best candidate (see Choose); Fault::Uninsertable when none is insertable. Each candidate and what Evaluate
+   * found go into m_Evaluated, for BestKeepingTopology. */
+  Ranked
+  BestCandidate(CellHandle cell, const Vector3 & center, double radius) const
+  {
+    Ranked best;
+    m_Evaluated.clear();
     const auto consider = [&](const Vector3 & point, VertexKind kind) {
       const Ranked candidate = Evaluate(point, kind, cell, best);
-      if (candidate.IsBetterThan(best) &&
-          (topology == Topology::MayChange || !candidate.split.changesBoundary || !MakesANonManifoldPlace()))
+      m_Evaluated.push_back({ point, kind, candidate, m_ReplacesAnotherLabel, m_Labelled });
+      if (candidate.IsBetterThan(best))
       {
         best = candidate;
       }
-      return best.split.accepted && !best.split.changesBoundary && m_DihedralBound.IsReachedBy(best.cosine);
+      return IsGoodEnough(best);
     };
     if (consider(center, VertexKind::Free))
     {
@@ -242,6 +312,8 @@ private:
   {
     Ranked result;
     result.split = { point, kind, true, false };
+    m_ReplacesAnotherLabel = false;
+    m_Labelled = false;
     if (!m_Box.IsStrictlyInsideBox(point) || !FindConflicts(point, sliver))
     {
       return result;
@@ -257,19 +329,13 @@ private:
     }
     result.cosine = largestCosine;
     result.fault = Fault::Boundary;
-    // An accepted best is beaten only by an accepted candidate that leaves the boundary as it is while the best
-    // changes it, or that does as the best does with a larger angle (Ranked::IsBetterThan). A replaced cell of
-    // another label changes the boundary whatever the new labels are. When neither can happen, the labels (an
-    // oracle query each) are not asked for.
-    if (best.split.accepted)
+    // The labels (an oracle query each) are asked for only when they can make the candidate beat `best`.
+    m_ReplacesAnotherLabel = ReplacesAnotherLabel(sliver->cache.label);
+    if (CannotBeat(largestCosine, m_ReplacesAnotherLabel, best))
     {
-      const bool largerAngle = largestCosine < best.cosine;
-      const bool changesSurely = ReplacesAnotherLabel(sliver->cache.label);
-      if (best.split.changesBoundary ? changesSurely && !largerAngle : changesSurely || !largerAngle)
-      {
-        return result;
-      }
+      return result;
     }
+    m_Labelled = true;
     m_NewLabels.clear();
     for (const std::array<Vector3, 4> & corners : m_NewTetrahedra)
     {
@@ -681,7 +747,12 @@ private:
   mutable std::vector<CellHandle>             m_ConflictCells;
   mutable std::vector<std::array<Vector3, 4>> m_NewTetrahedra;
   mutable std::vector<Label>                  m_NewLabels;
-  mutable std::vector<EdgeOfFacet>            m_Edges;
+  /** What the last Evaluate found besides its result (Evaluated). */
+  mutable bool m_ReplacesAnotherLabel{ false };
+  mutable bool m_Labelled{ false };
+  /** The first pass's candidates (BestCandidate). */
+  mutable std::vector<Evaluated>   m_Evaluated;
+  mutable std::vector<EdgeOfFacet> m_Edges;
   /** Whether m_Edges holds the edges of m_BoundaryFacets (FindConflicts clears it). */
   mutable bool                                    m_EdgesFound{ false };
   VertexLinks                                     m_Links;
