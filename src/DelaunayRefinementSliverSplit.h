@@ -36,6 +36,7 @@
 #include <cmath>
 #include <iterator>
 #include <optional>
+#include <queue>
 #include <stdexcept>
 #include <tuple>
 #include <vector>
@@ -225,42 +226,70 @@ private:
 
   /** The best of the candidates m_Evaluated holds (the first pass's, which went over all of them: it ended early
    * only at a candidate that leaves the boundary as it is, and then Choose needs no second pass) among those that
-   * make no boundary non-manifold where it was not; Fault::Uninsertable when none is insertable. The same choice as
-   * evaluating each again against this pass's best, without the conflict searches whose answer is known. */
+   * make no boundary non-manifold where it was not; Fault::Uninsertable when none is insertable. Best first: each
+   * candidate is ranked by what the first pass found, optimistically where it did not ask for the labels (accepted,
+   * and leaving the boundary unless a replaced cell of another label changes it surely); such a candidate is
+   * evaluated when it comes to the top, and goes back with its true rank; the first with a true rank that keeps
+   * every boundary a manifold is the answer. Ties go to the earlier candidate, so the answer is the one a scan in
+   * the candidates' order would keep; but the manifold test, a conflict search and a pass over the region's stars,
+   * runs only for the candidates ranked above it (measured: it had taken 0.74 s of the k-means tissues at 4.5 mm
+   * with σ = 15°, testing every candidate that improved on the scan's best so far). */
   Ranked
   BestKeepingTopology(CellHandle cell) const
   {
-    Ranked best;
-    for (const Evaluated & evaluated : m_Evaluated)
+    struct Entry
     {
+      Ranked      ranked;
+      std::size_t index;
+      bool        exact;
+    };
+    const auto comesAfter = [](const Entry & a, const Entry & b) {
+      if (a.ranked.IsBetterThan(b.ranked) || b.ranked.IsBetterThan(a.ranked))
+      {
+        return b.ranked.IsBetterThan(a.ranked);
+      }
+      return a.index > b.index;
+    };
+    std::priority_queue<Entry, std::vector<Entry>, decltype(comesAfter)> queue(comesAfter);
+    for (std::size_t index = 0; index < m_Evaluated.size(); ++index)
+    {
+      const Evaluated & evaluated = m_Evaluated[index];
       if (evaluated.ranked.fault == Fault::Uninsertable)
       {
         continue;
       }
-      Ranked candidate = evaluated.ranked;
-      bool   regionIsCurrent = false;
-      if (!evaluated.labelled && !CannotBeat(evaluated.ranked.cosine, evaluated.replacesAnotherLabel, best))
+      Entry entry{ evaluated.ranked, index, evaluated.labelled };
+      if (!evaluated.labelled)
       {
-        candidate = Evaluate(evaluated.point, evaluated.kind, cell, best);
-        regionIsCurrent = true;
+        entry.ranked.fault = Fault::None;
+        entry.ranked.split.accepted = true;
+        entry.ranked.split.changesBoundary = evaluated.replacesAnotherLabel;
       }
-      if (candidate.IsBetterThan(best))
+      queue.push(entry);
+    }
+    std::size_t regionOf = m_Evaluated.size();
+    while (!queue.empty())
+    {
+      Entry entry = queue.top();
+      queue.pop();
+      const Evaluated & evaluated = m_Evaluated[entry.index];
+      if (!entry.exact || (entry.ranked.split.changesBoundary && regionOf != entry.index))
       {
-        if (candidate.split.changesBoundary && !regionIsCurrent)
+        entry.ranked = Evaluate(evaluated.point, evaluated.kind, cell, Ranked());
+        regionOf = entry.index;
+        if (!entry.exact)
         {
-          Evaluate(evaluated.point, evaluated.kind, cell, Ranked());
-        }
-        if (!candidate.split.changesBoundary || !MakesANonManifoldPlace())
-        {
-          best = candidate;
+          entry.exact = true;
+          queue.push(entry);
+          continue;
         }
       }
-      if (IsGoodEnough(best))
+      if (!entry.ranked.split.changesBoundary || !MakesANonManifoldPlace())
       {
-        return best;
+        return entry.ranked;
       }
     }
-    return best;
+    return Ranked();
   }
 
   /** The best candidate (see Choose); Fault::Uninsertable when none is insertable. Each candidate and what Evaluate
