@@ -358,29 +358,39 @@ DescribeRefinement(const dr::RefinementStatistics & statistics)
   return text.str();
 }
 
+/** The label the filter meshes a voxel of value `value` with (settings): 1 at or above the iso-value; else the
+ * voxel's label when selected (every non-zero label when none is), 1 for every selected label when they are merged;
+ * the background otherwise. */
+inline dr::Label
+ObjectLabelOf(double value, const FilterSettings & settings)
+{
+  if (settings.isoValue)
+  {
+    return value >= *settings.isoValue ? 1 : dr::BackgroundLabel;
+  }
+  const auto label = static_cast<dr::Label>(std::lround(value));
+  const bool selected = settings.labels.empty() ||
+                        std::find(settings.labels.begin(), settings.labels.end(), label) != settings.labels.end();
+  if (label == dr::BackgroundLabel || !selected)
+  {
+    return dr::BackgroundLabel;
+  }
+  return settings.mergeLabels ? 1 : label;
+}
+
 /** The labels the filter may give a tetrahedron: the labels of the image's voxels as the oracle maps them
  * (rounded, kept when selected; 1 at or above the iso-value). */
 template <typename TImage>
 std::set<dr::Label>
 TissueLabelsOf(const TImage & image, const FilterSettings & settings)
 {
-  std::set<dr::Label>       labels;
-  const std::set<dr::Label> selected(settings.labels.begin(), settings.labels.end());
+  std::set<dr::Label> labels;
   for (ImageRegionConstIteratorWithIndex<TImage> it(&image, image.GetBufferedRegion()); !it.IsAtEnd(); ++it)
   {
-    const double value = static_cast<double>(it.Get());
-    if (settings.isoValue)
+    const dr::Label label = ObjectLabelOf(static_cast<double>(it.Get()), settings);
+    if (label != dr::BackgroundLabel)
     {
-      if (value >= *settings.isoValue)
-      {
-        labels.insert(1);
-      }
-      continue;
-    }
-    const auto label = static_cast<dr::Label>(std::lround(value));
-    if (label != dr::BackgroundLabel && (selected.empty() || selected.count(label)))
-    {
-      labels.insert(settings.mergeLabels ? 1 : label);
+      labels.insert(label);
     }
   }
   return labels;
@@ -1170,10 +1180,11 @@ CheckGuarantees(TFilter & filter, const TImage & image, const FilterSettings & s
 }
 
 /** The largest distance from an object voxel centre to the centre of a voxel of another label, outside the image
- * included (the filter pads the image with background), by brute force. Merged labels count as one. */
+ * included (the filter pads the image with background), by brute force, with the labels the filter meshes
+ * (ObjectLabelOf: merged labels count as one, unselected ones as background). */
 template <typename TImage>
 double
-LargestDistanceToAnotherLabel(const TImage & image, const std::set<dr::Label> & tissues, bool mergeLabels)
+LargestDistanceToAnotherLabel(const TImage & image, const FilterSettings & settings)
 {
   auto padded = image.GetBufferedRegion();
   padded.PadByRadius(1);
@@ -1184,12 +1195,9 @@ LargestDistanceToAnotherLabel(const TImage & image, const std::set<dr::Label> & 
     {
       for (index[0] = padded.GetIndex()[0]; index[0] <= padded.GetUpperIndex()[0]; ++index[0])
       {
-        dr::Label label = dr::BackgroundLabel;
-        if (image.GetBufferedRegion().IsInside(index))
-        {
-          const auto value = static_cast<dr::Label>(std::lround(static_cast<double>(image.GetPixel(index))));
-          label = tissues.count(value) ? (mergeLabels ? 1 : value) : dr::BackgroundLabel;
-        }
+        const dr::Label            label = image.GetBufferedRegion().IsInside(index)
+                                             ? ObjectLabelOf(static_cast<double>(image.GetPixel(index)), settings)
+                                             : dr::BackgroundLabel;
         typename TImage::PointType point;
         image.TransformIndexToPhysicalPoint(index, point);
         voxels.emplace_back(dr::Vector3{ { point[0], point[1], point[2] } }, label);
@@ -1228,7 +1236,7 @@ ContradictsRegularizedAway(const TImage & image, const FilterSettings & settings
   const double delta = settings.surfaceSamplingDistance > 0.0 ? settings.surfaceSamplingDistance
                                                               : 4.0 * std::max({ spacing[0], spacing[1], spacing[2] });
   const double reach = settings.regularizationScale * delta + 0.5 * std::min({ spacing[0], spacing[1], spacing[2] });
-  const double thickest = LargestDistanceToAnotherLabel(image, TissueLabelsOf(image, settings), settings.mergeLabels);
+  const double thickest = LargestDistanceToAnotherLabel(image, settings);
   if (thickest > reach * (1.0 + 1e-9))
   {
     return "'regularised away' although a voxel lies " + std::to_string(thickest) + " mm > its reach " +

@@ -1100,6 +1100,19 @@ TEST(RandomizedRegression, FlatTetrahedraNoMoveRemovesAreRemovedWithAnEdge)
   ExpectMeshedWithoutFlatTetrahedra({ { Family::SheetsAndLines, 3006723 } });
 }
 
+/** With labels merged, the check of "every part thinner than the regularisation scale" measured the voxels whose value
+ * is the merged label's id (1) instead of the selected labels' (found by a search of seeds 16,000-17,499: Mixed
+ * 8017397 selects label 2 alone, 23 voxels none farther than 1.6 mm from another label, beside 184 voxels of label 1
+ * up to 4.45 mm deep), and called the filter's right outcome a contradiction. The case must end so, with no problem
+ * found. */
+TEST(RandomizedRegression, RegularisedAwayIsJudgedOnTheSelectedLabels)
+{
+  const RandomCase randomCase = MakeCase(Family::Mixed, 8017397);
+  const CaseReport report = RunCase(randomCase);
+  EXPECT_EQ(report.result.outcome, Outcome::RegularizedAway) << Describe(randomCase) << ": " << report.result.message;
+  EXPECT_TRUE(report.problems.empty()) << Describe(randomCase) << ": " << report.problems.front();
+}
+
 /** A tetrahedron flat to rounding on the background must not become a tissue's when the relabelling at non-manifold
  * places moves it: its corners are nearly co-circular, so its radius-edge ratio is small, and only a flatness test
  * keeps it out. A search over 1,500 cases per family (σ = 0 in all three) found SaltAndPepper 2001483 with three,
