@@ -350,7 +350,9 @@ private:
     double largestCosine = -1.0;
     for (const std::array<Vector3, 4> & corners : m_NewTetrahedra)
     {
-      if (RadiusEdgeRatio(corners) >= m_RadiusEdgeBound)
+      // Written so that a NaN (a degenerate new tetrahedron) fails: the second pass orders candidates by their
+      // angles, which a NaN would leave without an order.
+      if (!(RadiusEdgeRatio(corners) < m_RadiusEdgeBound))
       {
         return result;
       }
