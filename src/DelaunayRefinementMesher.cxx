@@ -553,16 +553,10 @@ private:
   {
     // A place still there after a round is one the δ ball left as it was (measured: the k-means tissues at 3 mm and
     // the atlas phantom at one voxel kept 4 and 2 vertices through 10 rounds of δ); twice the radius settles them.
-    const double delta = m_Parameters.surfaceSamplingDistance;
     const double radius =
-      (m_Statistics.topologyRegularizationRounds == 0 ? RegularizationRadius : LaterRegularizationRadius) * delta;
-    std::vector<Ball> balls = m_Regularizer->RegularizeAround(places.places, radius);
-    // With δ below the voxel size a ball of δ may change no voxel at all (the atlas phantom at δ = 0.70710678 mm
-    // kept 2 non-manifold vertices, the repair ending at its first round): the later radius is tried then.
-    if (balls.empty() && radius < LaterRegularizationRadius * delta)
-    {
-      balls = m_Regularizer->RegularizeAround(places.places, LaterRegularizationRadius * delta);
-    }
+      (m_Statistics.topologyRegularizationRounds == 0 ? RegularizationRadius : LaterRegularizationRadius) *
+      m_Parameters.surfaceSamplingDistance;
+    const std::vector<Ball> balls = m_Regularizer->RegularizeAround(places.places, radius);
     if (balls.empty())
     {
       return false;

@@ -1147,15 +1147,6 @@ TEST(LatticeDelta, FlatTetrahedraNothingElseRemovesAreMovedKeepingMostOfTheSpaci
   EXPECT_FALSE(meshed->filter->GetRefinedMesh().pointsMovedBelowSpacing.empty());
 }
 
-// With δ below the voxel size a ball of radius δ around a non-manifold place may hold no voxel centre whose label
-// the regularisation would change, and the topology repair ended at its first round: this 24³ crop of the atlas
-// phantom at DeltaOnTheLattice kept a non-manifold vertex (the whole phantom, 2). The repair tries the later, larger
-// radius then (docs/algorithm.md, "Topology").
-TEST(LatticeDelta, NonManifoldPlacesBelowTheVoxelSizeAreRegularised)
-{
-  ExpectLatticeDeltaGuarantees(*MeshedAtLatticeDelta("AtlasPhantomCropWithSubVoxelPinch.nrrd"), 20);
-}
-
 // The brain mask's own voxel surface, for comparison: one pinch, so there the manifold test above is fair.
 TEST(BrainMaskReport, VoxelPinchesOfTheInput)
 {
