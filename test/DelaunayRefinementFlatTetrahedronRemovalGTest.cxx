@@ -138,6 +138,28 @@ FaceUses(const dr::TetrahedralMesh & mesh)
   return uses;
 }
 
+/** The mesh fills a region of volume `volume` once: every tetrahedron has at least `smallest` volume, positive, the
+ * volumes add up, every face inside is shared by two tetrahedra, and `outerFaces` faces by one. */
+void
+ExpectFilledOnce(const dr::TetrahedralMesh & mesh, double smallest, double volume, int outerFaces)
+{
+  double total = 0.0;
+  for (const auto & t : mesh.tetrahedra)
+  {
+    const double tetrahedronVolume = SignedVolumeOf(mesh, t);
+    EXPECT_GT(tetrahedronVolume, smallest) << "no tetrahedron is flat or inverted";
+    total += tetrahedronVolume;
+  }
+  EXPECT_NEAR(total, volume, 1e-12) << "the region is filled once";
+  int outer = 0;
+  for (const auto & [face, uses] : FaceUses(mesh))
+  {
+    EXPECT_LE(uses, 2);
+    outer += uses == 1;
+  }
+  EXPECT_EQ(outer, outerFaces);
+}
+
 TEST(FlatTetrahedronRemoval, TakesTheFlatTetrahedronOutOfAnOctahedron)
 {
   const TissueEverywhere oracle;
@@ -148,22 +170,8 @@ TEST(FlatTetrahedronRemoval, TakesTheFlatTetrahedronOutOfAnOctahedron)
 
   ASSERT_EQ(mesh.tetrahedra.size(), 4u);
   ASSERT_EQ(mesh.tetrahedronLabels.size(), 4u);
-  double total = 0.0;
-  for (const auto & t : mesh.tetrahedra)
-  {
-    const double volume = SignedVolumeOf(mesh, t);
-    EXPECT_GT(volume, 0.1) << "no tetrahedron is flat or inverted";
-    total += volume;
-  }
-  EXPECT_NEAR(total, 4.0 / 3.0, 1e-12) << "the octahedron is filled once";
-  // Conforming: every face inside is shared by two tetrahedra, and the octahedron's 8 faces by one.
-  int outer = 0;
-  for (const auto & [face, uses] : FaceUses(mesh))
-  {
-    EXPECT_LE(uses, 2);
-    outer += uses == 1;
-  }
-  EXPECT_EQ(outer, 8);
+  // The octahedron's volume, and its 8 faces.
+  ExpectFilledOnce(mesh, 0.1, 4.0 / 3.0, 8);
 }
 
 /** The ring around the z axis's edge from (0, 0, 1) to (0, 0, -1) over the pentagon (1, 0), (2, 0), (0, 1), (-1, 0),
@@ -192,22 +200,8 @@ TEST(FlatTetrahedronRemoval, FillsOnlyTheRingWhereItIsNotConvex)
   // ρ large: the shapes of the new tetrahedra do not decide here, only whether they fill the ring.
   EXPECT_EQ(dr::detail::FlatTetrahedronRemoval(oracle, 100.0).Remove(mesh), 1u);
 
-  double total = 0.0;
-  for (const auto & t : mesh.tetrahedra)
-  {
-    const double volume = SignedVolumeOf(mesh, t);
-    EXPECT_GT(volume, 0.01) << "no tetrahedron is flat or inverted";
-    total += volume;
-  }
-  // Two pyramids of height 1 over the pentagon, of area 2.5.
-  EXPECT_NEAR(total, 5.0 / 3.0, 1e-12) << "the ring is filled once, and nothing beyond it";
-  int outer = 0;
-  for (const auto & [face, uses] : FaceUses(mesh))
-  {
-    EXPECT_LE(uses, 2);
-    outer += uses == 1;
-  }
-  EXPECT_EQ(outer, 10);
+  // Two pyramids of height 1 over the pentagon, of area 2.5, and their 10 faces: the ring, and nothing beyond it.
+  ExpectFilledOnce(mesh, 0.01, 5.0 / 3.0, 10);
 }
 
 TEST(FlatTetrahedronRemoval, LeavesTetrahedraOfAnotherTissueAsTheyAre)
