@@ -62,14 +62,7 @@ public:
   std::size_t
   Remove(TetrahedralMesh & mesh)
   {
-    std::vector<uint32_t> flat;
-    for (uint32_t t = 0; t < mesh.tetrahedra.size(); ++t)
-    {
-      if (mesh.tetrahedronLabels[t] != BackgroundLabel && IsFlatToRounding(CornersOf(mesh, t)))
-      {
-        flat.push_back(t);
-      }
-    }
+    const std::vector<uint32_t> flat = FlatTissueTetrahedra(mesh);
     if (flat.empty())
     {
       return 0;
@@ -94,6 +87,27 @@ public:
     return removed;
   }
 
+  /** The tissue tetrahedra of the mesh flat to rounding, by index, increasing. */
+  static std::vector<uint32_t>
+  FlatTissueTetrahedra(const TetrahedralMesh & mesh)
+  {
+    std::vector<uint32_t> flat;
+    for (uint32_t t = 0; t < mesh.tetrahedra.size(); ++t)
+    {
+      if (mesh.tetrahedronLabels[t] != BackgroundLabel && IsFlatToRounding(CornersOf(mesh, t)))
+      {
+        flat.push_back(t);
+      }
+    }
+    return flat;
+  }
+
+  static std::array<Vector3, 4>
+  CornersOf(const TetrahedralMesh & mesh, uint32_t t)
+  {
+    return CornersOf(mesh, mesh.tetrahedra[t]);
+  }
+
 private:
   using Tetrahedron = std::array<uint32_t, 4>;
   using Triangle = std::array<uint32_t, 3>;
@@ -104,12 +118,6 @@ private:
     return {
       mesh.points[tetrahedron[0]], mesh.points[tetrahedron[1]], mesh.points[tetrahedron[2]], mesh.points[tetrahedron[3]]
     };
-  }
-
-  static std::array<Vector3, 4>
-  CornersOf(const TetrahedralMesh & mesh, uint32_t t)
-  {
-    return CornersOf(mesh, mesh.tetrahedra[t]);
   }
 
   void

@@ -365,23 +365,17 @@ private:
     return mesh;
   }
 
-  /** The tissue tetrahedra of the extracted mesh flat to rounding, by their corners in lexicographic order. */
+  /** The tissue tetrahedra of the extracted mesh flat to rounding (FlatTetrahedronRemoval::FlatTissueTetrahedra), by
+   * their corners in lexicographic order, which name them in the triangulation too. */
   static std::set<std::array<Vector3, 4>>
   FlatTissueTetrahedraOf(const TetrahedralMesh & mesh)
   {
     std::set<std::array<Vector3, 4>> flat;
-    for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
+    for (const uint32_t t : FlatTetrahedronRemoval::FlatTissueTetrahedra(mesh))
     {
-      std::array<Vector3, 4> corners{};
-      for (int corner = 0; corner < 4; ++corner)
-      {
-        corners[corner] = mesh.points[mesh.tetrahedra[t][corner]];
-      }
-      if (mesh.tetrahedronLabels[t] != BackgroundLabel && IsFlatToRounding(corners))
-      {
-        std::sort(corners.begin(), corners.end());
-        flat.insert(corners);
-      }
+      std::array<Vector3, 4> corners = FlatTetrahedronRemoval::CornersOf(mesh, t);
+      std::sort(corners.begin(), corners.end());
+      flat.insert(corners);
     }
     return flat;
   }
