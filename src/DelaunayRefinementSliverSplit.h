@@ -198,7 +198,8 @@ private:
     Ranked     ranked;
     /** Whether its conflict region holds a cell of another label than the sliver's (the boundary changes surely). */
     bool replacesAnotherLabel;
-    /** Whether the labels were asked for: `ranked` is then the whole acceptance test's result, whatever the best. */
+    /** Whether the labels were asked for: `ranked` is then the whole acceptance test's result, whatever the best;
+     * else its cosine may be only a bound from below (Evaluate). */
     bool labelled;
   };
 
@@ -280,7 +281,10 @@ private:
         if (!entry.exact)
         {
           entry.exact = true;
-          queue.push(entry);
+          if (entry.ranked.fault != Fault::Uninsertable)
+          {
+            queue.push(entry);
+          }
           continue;
         }
       }
@@ -347,6 +351,7 @@ private:
     {
       return result;
     }
+    m_ReplacesAnotherLabel = ReplacesAnotherLabel(sliver->cache.label);
     double largestCosine = -1.0;
     for (const std::array<Vector3, 4> & corners : m_NewTetrahedra)
     {
@@ -357,15 +362,18 @@ private:
         return result;
       }
       largestCosine = std::max(largestCosine, CosineOfSmallestDihedralAngle(corners));
+      // A candidate that cannot beat `best` with the tetrahedra seen so far cannot with all of them: its angle only
+      // gets smaller. It is left unlabelled, and its cosine, a bound, makes it look no worse than it is: the second
+      // pass evaluates it in full if it comes to the top (BestKeepingTopology). Most candidates end here.
+      if (CannotBeat(largestCosine, m_ReplacesAnotherLabel, best))
+      {
+        result.cosine = largestCosine;
+        result.fault = Fault::Boundary;
+        return result;
+      }
     }
     result.cosine = largestCosine;
     result.fault = Fault::Boundary;
-    // The labels (an oracle query each) are asked for only when they can make the candidate beat `best`.
-    m_ReplacesAnotherLabel = ReplacesAnotherLabel(sliver->cache.label);
-    if (CannotBeat(largestCosine, m_ReplacesAnotherLabel, best))
-    {
-      return result;
-    }
     m_Labelled = true;
     m_NewLabels.clear();
     for (const std::array<Vector3, 4> & corners : m_NewTetrahedra)
