@@ -180,6 +180,10 @@ private:
         { cell->cache.squaredRadius, cell, cell->cache.stamp, MeshState::SortedVertexIds(cell) });
       return false;
     }
+    // The cell to locate the split point from: the sliver's, or none after moves that were undone, which gave the
+    // sliver a new cell. Undoing restores the triangulation exactly (MeshState::MoveVertex), so the split chosen
+    // before is still the one Choose would choose, and it is made now instead of choosing it again.
+    CellHandle hint = cell;
     if (!split.accepted)
     {
       switch (Perturb(cell))
@@ -187,8 +191,8 @@ private:
         case SliverPerturbation::Outcome::Moved:
           return true;
         case SliverPerturbation::Outcome::Undone:
-          // The sliver exists again, as a new cell in the queue; when it comes back, it is split.
-          return false;
+          hint = CellHandle();
+          break;
         case SliverPerturbation::Outcome::NotTried:
           break;
       }
@@ -197,7 +201,7 @@ private:
     m_Statistics.sliverSplitsOnSurface += split.kind == VertexKind::Feature;
     m_Statistics.sliverSplitsChangingBoundary += split.changesBoundary;
     m_Statistics.sliverSplitsFailingAcceptance += !split.accepted;
-    return m_State.InsertVertex(split.point, split.kind, cell).has_value();
+    return m_State.InsertVertex(split.point, split.kind, hint).has_value();
   }
 
   SliverPerturbation::Outcome
