@@ -79,8 +79,10 @@ public:
   {}
 
   /** The point to insert for the sliver `cell` (circumcentre `center`, squared circumradius `squaredRadius`).
-   * Candidates: the circumcentre, 28 points on two spheres around it (radius 1/2 and 1 × the picking radius, 14
-   * directions each), then the surface point closest to the circumcentre when it is within SurfacePickingRadius.
+   * Candidates: the circumcentre, 14 points on the sphere of the picking radius around it (the six axis directions
+   * and the eight diagonals), then the surface point closest to the circumcentre when it is within
+   * SurfacePickingRadius. A second sphere at half the radius cost 10 to 20 % of the time with σ = 15° for 0 to 1.7 %
+   * fewer tetrahedra (k-means tissues, atlas phantom, brain mask).
    * Every candidate passes one acceptance test (Evaluate): its new tetrahedra have radius-edge ratio < ρ, and every
    * triangle it puts on a boundary has only surface vertices and angles > 30°. Among the accepted ones, a
    * candidate that leaves every boundary triangle as it was comes first, then the one whose new tetrahedra have
@@ -316,14 +318,11 @@ private:
     {
       return best;
     }
-    for (const double fraction : { 0.5 * PickingRadius, PickingRadius })
+    for (const Vector3 & direction : Directions())
     {
-      for (const Vector3 & direction : Directions())
+      if (consider(center + (PickingRadius * radius) * direction, VertexKind::Free))
       {
-        if (consider(center + (fraction * radius) * direction, VertexKind::Free))
-        {
-          return best;
-        }
+        return best;
       }
     }
     // A sliver on a boundary may have no free point that leaves the boundary good: a point on the surface, which
@@ -474,7 +473,7 @@ private:
     // The triangle joining the new point to an edge of the region's boundary is on a boundary when the new
     // tetrahedra on the edge's two facets differ in label. A free point must be on none: since the region's boundary
     // is a sphere, whose facets are all joined through their edges, that is when every new tetrahedron has one
-    // label, and the edges need not be paired (28 of R4′'s 29 candidates are free).
+    // label, and the edges need not be paired (14 of R4′'s 16 candidates are free).
     if (kind == VertexKind::Free)
     {
       return std::all_of(
