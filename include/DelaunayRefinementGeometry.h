@@ -56,6 +56,13 @@ ShortestEdgeLength(const std::array<Vector3, 4> & corners)
   return shortest;
 }
 
+/** Length of the shortest of a triangle's three edges. */
+inline double
+ShortestEdgeLength(const Vector3 & a, const Vector3 & b, const Vector3 & c)
+{
+  return std::sqrt(std::min({ SquaredNorm(a - b), SquaredNorm(b - c), SquaredNorm(c - a) }));
+}
+
 /** Signed volume: positive when (p1 - p0, p2 - p0, p3 - p0) is a right-handed frame. */
 inline double
 SignedVolume(const std::array<Vector3, 4> & corners)

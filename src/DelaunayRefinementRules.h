@@ -131,6 +131,16 @@ public:
     return std::nullopt;
   }
 
+  /** R3's threshold for a restricted facet with corners `a`, `b`, `c` whose surface ball is centred at `center`: the
+   * local δ there, or the facet's shortest edge if shorter (LargeSurfaceBall). A surface ball is at least the
+   * facet's circumcircle, so a facet whose circumradius reaches it is split surely; SliverPerturbation predicts its
+   * moves' failures with it. */
+  double
+  SurfaceBallThreshold(const Vector3 & center, const Vector3 & a, const Vector3 & b, const Vector3 & c) const
+  {
+    return std::min(m_Sizing.LocalDelta(center), ShortestEdgeLength(a, b, c));
+  }
+
 private:
   /** The oracle's closest surface point, remembered for the last query: R1 asks for the point right after
    * IsIntersecting() asked for its distance, and the image oracle's search is its most expensive call. */
@@ -215,15 +225,6 @@ private:
     return m_DihedralBound.IsSliver(corners) || IsFlatToRounding(corners);
   }
 
-  double
-  ShortestFacetEdge(CellHandle cell, int facet) const
-  {
-    const Vector3 a = m_State.PointOf(cell->vertex((facet + 1) & 3));
-    const Vector3 b = m_State.PointOf(cell->vertex((facet + 2) & 3));
-    const Vector3 c = m_State.PointOf(cell->vertex((facet + 3) & 3));
-    return std::sqrt(std::min({ SquaredNorm(a - b), SquaredNorm(b - c), SquaredNorm(c - a) }));
-  }
-
   /** The far end of the Voronoi ray dual to a convex-hull facet: beyond the box, so labelled background. */
   Vector3
   FarEndOfVoronoiRay(CellHandle cell, int facet) const
@@ -254,8 +255,11 @@ private:
       const Vector3    otherEnd = m_State.GetTriangulation().is_infinite(neighbor) ? FarEndOfVoronoiRay(cell, facet)
                                                                                    : neighbor->cache.circumcenter;
       const Vector3    center = m_Oracle.SurfaceCrossing(cell->cache.circumcenter, otherEnd);
-      const double     squaredRadius = SquaredNorm(center - m_State.PointOf(cell->vertex((facet + 1) & 3)));
-      const double     threshold = std::min(m_Sizing.LocalDelta(center), ShortestFacetEdge(cell, facet));
+      const Vector3    a = m_State.PointOf(cell->vertex((facet + 1) & 3));
+      const Vector3    b = m_State.PointOf(cell->vertex((facet + 2) & 3));
+      const Vector3    c = m_State.PointOf(cell->vertex((facet + 3) & 3));
+      const double     squaredRadius = SquaredNorm(center - a);
+      const double     threshold = SurfaceBallThreshold(center, a, b, c);
       if (squaredRadius >= threshold * threshold && squaredRadius > bestSquaredRadius)
       {
         bestSquaredRadius = squaredRadius;

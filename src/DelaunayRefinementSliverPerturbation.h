@@ -361,8 +361,8 @@ private:
   }
 
   /** Whether R3 would split a boundary triangle at the surface vertex `vertex` once it is moved to `point`, were
-   * the boundary's triangles there to stay the same: their surface balls are at least their circumcircles, and R3
-   * splits one whose radius reaches the local δ or the triangle's shortest edge. A move of a surface vertex along
+   * the boundary's triangles there to stay the same: one whose circumradius reaches R3's threshold
+   * (RefinementRules::SurfaceBallThreshold, with the local δ at the moved point). A move of a surface vertex along
    * the surface can change the Delaunay triangulation around it, so this only predicts the acceptance test; but
    * it predicts most of its failures for free, where making and undoing the move costs a removal and an insertion
    * each (measured on the k-means tissues at 4.5 mm with σ = 15°: R3 failed 1,929 of 3,500 failing moves). A
@@ -371,7 +371,6 @@ private:
   SplitsABoundaryTriangle(VertexHandle vertex, const Vector3 & point) const
   {
     const Triangulation & triangulation = m_State.GetTriangulation();
-    const double          delta = m_Sizing.LocalDelta(point);
     for (const CellHandle cell : StarOf(vertex))
     {
       if (triangulation.is_infinite(cell))
@@ -391,10 +390,8 @@ private:
           const int index = Triangulation::vertex_triple_index(facet, corner);
           triangle[corner] = index == moved ? point : m_State.PointOf(cell->vertex(index));
         }
-        const double shortestEdge = std::sqrt(std::min({ SquaredNorm(triangle[0] - triangle[1]),
-                                                         SquaredNorm(triangle[1] - triangle[2]),
-                                                         SquaredNorm(triangle[2] - triangle[0]) }));
-        if (TriangleCircumradius(triangle[0], triangle[1], triangle[2]) >= std::min(delta, shortestEdge))
+        if (TriangleCircumradius(triangle[0], triangle[1], triangle[2]) >=
+            m_Rules.SurfaceBallThreshold(point, triangle[0], triangle[1], triangle[2]))
         {
           return true;
         }
