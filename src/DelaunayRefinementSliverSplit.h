@@ -190,14 +190,13 @@ private:
     return directions;
   }
 
-  /** A candidate as the first pass (BestCandidate) found it: the second (BestKeepingTopology) goes over the same
-   * candidates in the same triangulation, and searches a conflict region again only where it must know it: for
-   * labels the first pass did not ask for, or for the manifold test. */
+  /** What Evaluate found for a candidate (its point and kind are `ranked.split`'s). The first pass (BestCandidate)
+   * keeps them all: the second (BestKeepingTopology) goes over the same candidates in the same triangulation, and
+   * searches a conflict region again only where it must know it: for labels the first pass did not ask for, or for
+   * the manifold test. */
   struct Evaluated
   {
-    Vector3    point;
-    VertexKind kind;
-    Ranked     ranked;
+    Ranked ranked;
     /** Whether its conflict region holds a cell of another label than the sliver's (the boundary changes surely). */
     bool replacesAnotherLabel;
     /** Whether the labels were asked for: `ranked` is then the whole acceptance test's result, whatever the best;
@@ -278,7 +277,7 @@ private:
       const Evaluated & evaluated = m_Evaluated[entry.index];
       if (!entry.exact || (entry.ranked.split.changesBoundary && regionOf != entry.index))
       {
-        entry.ranked = Evaluate(evaluated.point, evaluated.kind, cell, Ranked());
+        entry.ranked = Evaluate(evaluated.ranked.split.point, evaluated.ranked.split.kind, cell, Ranked()).ranked;
         regionOf = entry.index;
         if (!entry.exact)
         {
@@ -306,11 +305,10 @@ private:
     Ranked best;
     m_Evaluated.clear();
     const auto consider = [&](const Vector3 & point, VertexKind kind) {
-      const Ranked candidate = Evaluate(point, kind, cell, best);
-      m_Evaluated.push_back({ point, kind, candidate, m_ReplacesAnotherLabel, m_Labelled });
-      if (candidate.IsBetterThan(best))
+      m_Evaluated.push_back(Evaluate(point, kind, cell, best));
+      if (m_Evaluated.back().ranked.IsBetterThan(best))
       {
-        best = candidate;
+        best = m_Evaluated.back().ranked;
       }
       return IsGoodEnough(best);
     };
@@ -338,19 +336,18 @@ private:
   /** The acceptance test and the score of inserting `point` as a vertex of `kind` to split `sliver`. Its new
    * tetrahedra are its conflict region's boundary facets joined to it; each carries the label at its circumcentre.
    * The labels are asked for only when the candidate's angles could beat `best`, since they cost an oracle query
-   * each. */
-  Ranked
+   * each. The conflict region stays in the members for MakesANonManifoldPlace. */
+  Evaluated
   Evaluate(const Vector3 & point, VertexKind kind, CellHandle sliver, const Ranked & best) const
   {
-    Ranked result;
+    Evaluated evaluated{ Ranked(), false, false };
+    Ranked &  result = evaluated.ranked;
     result.split = { point, kind, true, false };
-    m_ReplacesAnotherLabel = false;
-    m_Labelled = false;
     if (!m_Box.IsStrictlyInsideBox(point) || !FindConflicts(point, sliver))
     {
-      return result;
+      return evaluated;
     }
-    m_ReplacesAnotherLabel = ReplacesAnotherLabel(sliver->cache.label);
+    evaluated.replacesAnotherLabel = ReplacesAnotherLabel(sliver->cache.label);
     double largestCosine = -1.0;
     for (const std::array<Vector3, 4> & corners : m_NewTetrahedra)
     {
@@ -358,22 +355,22 @@ private:
       // angles, which a NaN would leave without an order.
       if (!(RadiusEdgeRatio(corners) < m_RadiusEdgeBound))
       {
-        return result;
+        return evaluated;
       }
       largestCosine = std::max(largestCosine, CosineOfSmallestDihedralAngle(corners));
       // A candidate that cannot beat `best` with the tetrahedra seen so far cannot with all of them: its angle only
       // gets smaller. It is left unlabelled, and its cosine, a bound, makes it look no worse than it is: the second
       // pass evaluates it in full if it comes to the top (BestKeepingTopology). Most candidates end here.
-      if (CannotBeat(largestCosine, m_ReplacesAnotherLabel, best))
+      if (CannotBeat(largestCosine, evaluated.replacesAnotherLabel, best))
       {
         result.cosine = largestCosine;
         result.fault = Fault::Boundary;
-        return result;
+        return evaluated;
       }
     }
     result.cosine = largestCosine;
     result.fault = Fault::Boundary;
-    m_Labelled = true;
+    evaluated.labelled = true;
     m_NewLabels.clear();
     for (const std::array<Vector3, 4> & corners : m_NewTetrahedra)
     {
@@ -382,7 +379,7 @@ private:
     result.split.changesBoundary = ChangesBoundary(sliver->cache.label);
     result.split.accepted = !result.split.changesBoundary || NewBoundaryTrianglesAreGood(point, kind);
     result.fault = result.split.accepted ? Fault::None : Fault::Boundary;
-    return result;
+    return evaluated;
   }
 
   /** The conflict region of `point` (its cells and boundary facets) and the corners of the tetrahedra it would
@@ -785,9 +782,6 @@ private:
   mutable std::vector<CellHandle>             m_ConflictCells;
   mutable std::vector<std::array<Vector3, 4>> m_NewTetrahedra;
   mutable std::vector<Label>                  m_NewLabels;
-  /** What the last Evaluate found besides its result (Evaluated). */
-  mutable bool m_ReplacesAnotherLabel{ false };
-  mutable bool m_Labelled{ false };
   /** The first pass's candidates (BestCandidate). */
   mutable std::vector<Evaluated>   m_Evaluated;
   mutable std::vector<EdgeOfFacet> m_Edges;
