@@ -19,6 +19,7 @@
 #define itkImageLabelOracle_h
 
 #include "DelaunayRefinementLabelRegularization.h"
+#include "DelaunayRefinementLargeBuffers.h"
 #include "DelaunayRefinementOracle.h"
 #include "DelaunayRefinementVoxelPinches.h"
 
@@ -263,10 +264,10 @@ private:
   typename LabelImageType::Pointer m_LabelImage;
   typename LabelImageType::Pointer m_SelectedLabelImage;
   /** For each voxel of m_LabelImage (by buffer offset), the buffer offset of the nearest interface voxel. */
-  std::vector<uint32_t> m_NearestInterfaceVoxel;
+  delaunay_refinement::LargeVector<uint32_t> m_NearestInterfaceVoxel;
   // The nearest interface voxels after the passes along x and y only (each z-slice's own), kept when the labels
   // may be regularised later (UpdateNearestInterfaceMap).
-  std::vector<uint32_t> m_NearestInterfaceInSlices;
+  delaunay_refinement::LargeVector<uint32_t> m_NearestInterfaceInSlices;
   /** Buffer offset steps of m_LabelImage along each axis. */
   std::array<SizeValueType, 3>                   m_BufferStrides{};
   delaunay_refinement::AxisAlignedBox            m_ObjectBounds;

@@ -129,6 +129,7 @@ ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
   m_LabelImage->SetSpacing(image->GetSpacing());
   m_LabelImage->SetDirection(image->GetDirection());
   m_LabelImage->Allocate();
+  delaunay_refinement::AdviseHugePages(m_LabelImage->GetBufferPointer(), kept.GetNumberOfPixels() * sizeof(LabelType));
   m_LabelImage->FillBuffer(delaunay_refinement::BackgroundLabel);
   m_BufferStrides = { 1, kept.GetSize()[0], kept.GetSize()[0] * kept.GetSize()[1] };
   auto keptInsideImage = kept;
@@ -147,6 +148,8 @@ ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
     m_SelectedLabelImage->CopyInformation(m_LabelImage);
     m_SelectedLabelImage->SetRegions(kept);
     m_SelectedLabelImage->Allocate();
+    delaunay_refinement::AdviseHugePages(m_SelectedLabelImage->GetBufferPointer(),
+                                         kept.GetNumberOfPixels() * sizeof(LabelType));
     std::copy(m_LabelImage->GetBufferPointer(),
               m_LabelImage->GetBufferPointer() + kept.GetNumberOfPixels(),
               m_SelectedLabelImage->GetBufferPointer());

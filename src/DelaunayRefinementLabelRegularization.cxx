@@ -23,6 +23,7 @@
 // Huttenlocher (Distance transforms of sampled functions, Theory of Computing 8, 2012) over a box around them.
 
 #include "DelaunayRefinementLabelRegularization.h"
+#include "DelaunayRefinementLargeBuffers.h"
 #include "DelaunayRefinementMesher.h"
 #include "DelaunayRefinementParallel.h"
 
@@ -44,7 +45,11 @@ namespace
 constexpr double Infinity = std::numeric_limits<double>::infinity();
 /** A flag per voxel of the grid, a byte each: the searches read them at random and the transform once per voxel,
  * where unpacking bits costs more than the memory. */
-using VoxelFlags = std::vector<uint8_t>;
+using VoxelFlags = LargeVector<uint8_t>;
+/** Grid offsets of voxels. */
+using VoxelOffsets = LargeVector<std::size_t>;
+/** Voxels (grid offsets) with their new labels. */
+using VoxelChanges = LargeVector<std::pair<std::size_t, Label>>;
 /** Below this many voxels per thread, a pass over voxels on more threads costs more than it saves. */
 constexpr std::size_t MinimumVoxelsPerThread = 1 << 16;
 constexpr std::size_t NoVoxel = std::numeric_limits<std::size_t>::max();
@@ -80,8 +85,8 @@ public:
   NearestSiteTransform(const VoxelBox & box, const Vector3 & spacing)
     : m_Box(box)
     , m_Spacing(spacing)
-    , m_SquaredDistance(new double[box.NumberOfVoxels()])
-    , m_Site(new TSite[box.NumberOfVoxels()])
+    , m_SquaredDistance(box.NumberOfVoxels())
+    , m_Site(box.NumberOfVoxels())
     , m_LastPassLines(static_cast<std::size_t>(box.size[0] * box.size[1]), 0)
   {}
 
@@ -291,10 +296,10 @@ private:
     }
   }
 
-  VoxelBox                  m_Box;
-  Vector3                   m_Spacing;
-  std::unique_ptr<double[]> m_SquaredDistance;
-  std::unique_ptr<TSite[]>  m_Site;
+  VoxelBox                        m_Box;
+  Vector3                         m_Spacing;
+  UninitializedLargeArray<double> m_SquaredDistance;
+  UninitializedLargeArray<TSite>  m_Site;
   /** The lines of the last pass, by their voxel in the first slice, that hold a voxel asked for. */
   std::vector<uint8_t> m_LastPassLines;
 };
@@ -736,9 +741,9 @@ private:
     }
   }
 
-  std::vector<Run>            m_Runs;
-  std::vector<std::size_t>    m_FirstRunOfLine;
-  std::vector<std::size_t>    m_Parent;
+  LargeVector<Run>            m_Runs;
+  LargeVector<std::size_t>    m_FirstRunOfLine;
+  LargeVector<std::size_t>    m_Parent;
   std::map<Label, Statistics> m_Statistics;
 };
 
@@ -780,7 +785,7 @@ public:
     {
       return report;
     }
-    const std::vector<std::pair<std::size_t, Label>> changes =
+    const VoxelChanges changes =
       ReachExceedsTheGrid() ? EveryTissueVoxelToBackground() : OpenEveryLabel(before.PerLabel());
     if (changes.empty())
     {
@@ -828,10 +833,10 @@ private:
 
   /** Where no tissue survives, every tissue voxel goes to the background: the regularised object is empty, and
    * the caller says that every part of it is thinner than the scale. */
-  std::vector<std::pair<std::size_t, Label>>
+  VoxelChanges
   EveryTissueVoxelToBackground() const
   {
-    std::vector<std::pair<std::size_t, Label>> changes;
+    VoxelChanges changes;
     for (std::size_t offset = 0; offset < m_NumberOfVoxels; ++offset)
     {
       if (m_Labels[offset] != BackgroundLabel)
@@ -980,8 +985,7 @@ private:
    * offsets to `removedVoxels`. */
   void
   OpenLabel(Label label, const VoxelBox & box, const std::vector<BallRow> & erosionBall,
-            const std::vector<BallRow> & dilationBall, VoxelFlags & removed,
-            std::vector<std::size_t> & removedVoxels) const
+            const std::vector<BallRow> & dilationBall, VoxelFlags & removed, VoxelOffsets & removedVoxels) const
   {
     const BoxBits voxels = VoxelsOf(label, box);
     BoxBits       eroded = DilateByBall(OuterBoundary(voxels), erosionBall);
@@ -1015,7 +1019,7 @@ private:
    * the first voxel comes closer), so a label's erosion removes its voxels within the reach of its outer boundary.
    * Each label is opened in its bounding box with a margin of the dilation's reach; the background's box is the
    * grid with that margin, since the grid's outside is background. */
-  std::vector<std::pair<std::size_t, Label>>
+  VoxelChanges
   OpenEveryLabel(const std::map<Label, LabelComponents::Statistics> & labels) const
   {
     std::array<long, 3> backgroundMargin{};
@@ -1041,8 +1045,8 @@ private:
     std::stable_sort(toOpen.begin(), toOpen.end(), [](const auto & a, const auto & b) {
       return a.second.NumberOfVoxels() > b.second.NumberOfVoxels();
     });
-    VoxelFlags                            removed(m_NumberOfVoxels, 0);
-    std::vector<std::vector<std::size_t>> removedOfLabel(toOpen.size());
+    VoxelFlags                removed(m_NumberOfVoxels, 0);
+    std::vector<VoxelOffsets> removedOfLabel(toOpen.size());
     detail::ForEachIndexInParallel(
       toOpen.size(),
       m_NumberOfThreads,
@@ -1050,8 +1054,8 @@ private:
         OpenLabel(toOpen[index].first, toOpen[index].second, erosionBall, dilationBall, removed, removedOfLabel[index]);
       },
       [this] { Checkpoint(); });
-    std::vector<std::size_t> removedVoxels;
-    for (const std::vector<std::size_t> & ofLabel : removedOfLabel)
+    VoxelOffsets removedVoxels;
+    for (const VoxelOffsets & ofLabel : removedOfLabel)
     {
       removedVoxels.insert(removedVoxels.end(), ofLabel.begin(), ofLabel.end());
     }
@@ -1084,9 +1088,8 @@ private:
    * away); those with no survivor near, and all those left when the searches grow costly, take a distance transform
    * over a box around them. Either way the survivor is a nearest one; between survivors at exactly the same distance
    * the choice is deterministic. */
-  std::vector<std::pair<std::size_t, Label>>
-  GiveRemovedVoxelsTheNearestSurvivorsLabel(const VoxelFlags &               removed,
-                                            const std::vector<std::size_t> & removedVoxels) const
+  VoxelChanges
+  GiveRemovedVoxelsTheNearestSurvivorsLabel(const VoxelFlags & removed, const VoxelOffsets & removedVoxels) const
   {
     const double searchRadius = m_DilationReach + 2.0 * std::max({ m_Spacing[0], m_Spacing[1], m_Spacing[2] });
     const std::vector<NeighbourOffset> nearestFirst = NeighbourOffsetsByDistance(
@@ -1094,14 +1097,14 @@ private:
       m_Spacing,
       { { 1, static_cast<long>(m_Size[0]), static_cast<long>(m_Size[0] * m_Size[1]) } },
       { { static_cast<long>(m_Size[0]) - 1, static_cast<long>(m_Size[1]) - 1, static_cast<long>(m_Size[2]) - 1 } });
-    std::vector<std::pair<std::size_t, Label>> changes;
-    const auto                                 takeLabelOf = [&](std::size_t voxel, std::size_t survivor) {
+    VoxelChanges changes;
+    const auto   takeLabelOf = [&](std::size_t voxel, std::size_t survivor) {
       if (m_Labels[survivor] != m_Labels[voxel])
       {
         changes.emplace_back(voxel, m_Labels[survivor]);
       }
     };
-    std::vector<std::size_t> farFromSurvivors;
+    VoxelOffsets farFromSurvivors;
     // The search costs the offsets it tries. Once they outnumber SearchTriesPerBoxVoxel per voxel of the removed
     // voxels' box, the voxels not searched yet take the transform: searching stays cheap where survivors are near
     // (the usual case: the atlas phantom at 4 mm, 14,222 voxels in 0.5 ms against 33 ms for the transform), and
@@ -1159,7 +1162,7 @@ private:
     {
       return changes;
     }
-    std::vector<std::pair<std::size_t, std::size_t>> nearest;
+    LargeVector<std::pair<std::size_t, std::size_t>> nearest;
     nearest.reserve(farFromSurvivors.size());
     if (!NearestSurvivorsInBox(BoxAround(farFromSurvivors, searchRadius), farFromSurvivors, removed, nearest))
     {
@@ -1188,7 +1191,7 @@ private:
 
   /** The bounding box of `voxels` with a margin of `margin` (physical), within the grid. */
   VoxelBox
-  BoxAround(const std::vector<std::size_t> & voxels, double margin) const
+  BoxAround(const VoxelOffsets & voxels, double margin) const
   {
     std::array<long, 3> lowest = CoordinatesOf(voxels.front());
     std::array<long, 3> highest = lowest;
@@ -1216,8 +1219,8 @@ private:
    * survivor) grid offsets; false when a survivor outside the box might be nearer to one of them than the one
    * found. */
   bool
-  NearestSurvivorsInBox(const VoxelBox & box, const std::vector<std::size_t> & voxels, const VoxelFlags & removed,
-                        std::vector<std::pair<std::size_t, std::size_t>> & nearest) const
+  NearestSurvivorsInBox(const VoxelBox & box, const VoxelOffsets & voxels, const VoxelFlags & removed,
+                        LargeVector<std::pair<std::size_t, std::size_t>> & nearest) const
   {
     if (m_NumberOfVoxels < std::numeric_limits<uint32_t>::max())
     {
@@ -1228,8 +1231,8 @@ private:
 
   template <typename TSite>
   bool
-  NearestSurvivorsInBoxWith(const VoxelBox & box, const std::vector<std::size_t> & voxels, const VoxelFlags & removed,
-                            std::vector<std::pair<std::size_t, std::size_t>> & nearest) const
+  NearestSurvivorsInBoxWith(const VoxelBox & box, const VoxelOffsets & voxels, const VoxelFlags & removed,
+                            LargeVector<std::pair<std::size_t, std::size_t>> & nearest) const
   {
     Checkpoint();
     NearestSiteTransform<TSite> survivors(box, m_Spacing);
@@ -1247,7 +1250,7 @@ private:
       const std::size_t offset = GridOffset(box.lower[0], box.lower[1], box.lower[2] + static_cast<long>(slice));
       return static_cast<std::size_t>(std::lower_bound(voxels.begin(), voxels.end(), offset) - voxels.begin());
     };
-    std::vector<std::pair<std::size_t, double>> inBoxAndToOutside(voxels.size());
+    LargeVector<std::pair<std::size_t, double>> inBoxAndToOutside(voxels.size());
     std::vector<std::vector<uint8_t>>           linesOfSlab(slabs);
     std::vector<uint8_t>                        slabIsComplete(slabs, 0);
     detail::ForEachIndexInParallel(
@@ -1303,7 +1306,7 @@ private:
     }
     survivors.Compute([this] { Checkpoint(); }, m_NumberOfThreads);
     // The answers, read on the threads into their places, then listed in order.
-    std::vector<TSite> answers(voxels.size());
+    LargeVector<TSite> answers(voxels.size());
     std::atomic<bool>  allInBox{ true };
     detail::ForEachRangeInParallel(
       voxels.size(), slabs, MinimumVoxelsPerThread, [&](std::size_t begin, std::size_t end) {
