@@ -1054,19 +1054,23 @@ private:
         OpenLabel(toOpen[index].first, toOpen[index].second, erosionBall, dilationBall, removed, removedOfLabel[index]);
       },
       [this] { Checkpoint(); });
-    VoxelOffsets removedVoxels;
+    std::size_t numberRemoved = 0;
     for (const VoxelOffsets & ofLabel : removedOfLabel)
     {
-      removedVoxels.insert(removedVoxels.end(), ofLabel.begin(), ofLabel.end());
+      numberRemoved += ofLabel.size();
     }
-    if (removedVoxels.empty())
+    if (numberRemoved == 0)
     {
       return {};
     }
-    if (removedVoxels.size() > m_NumberOfVoxels / 64)
+    // The lists are let go as soon as they are read: the memory is the regularisation's peak (see
+    // DelaunayRefinementLargeBuffers.h for what fresh memory costs).
+    VoxelOffsets removedVoxels;
+    removedVoxels.reserve(numberRemoved);
+    if (numberRemoved > m_NumberOfVoxels / 64)
     {
       // Many: reading them off the grid in order is cheaper than sorting them.
-      removedVoxels.clear();
+      removedOfLabel = {};
       for (std::size_t offset = 0; offset < m_NumberOfVoxels; ++offset)
       {
         if (removed[offset])
@@ -1077,9 +1081,14 @@ private:
     }
     else
     {
+      for (const VoxelOffsets & ofLabel : removedOfLabel)
+      {
+        removedVoxels.insert(removedVoxels.end(), ofLabel.begin(), ofLabel.end());
+      }
+      removedOfLabel = {};
       std::sort(removedVoxels.begin(), removedVoxels.end());
     }
-    return GiveRemovedVoxelsTheNearestSurvivorsLabel(removed, removedVoxels);
+    return GiveRemovedVoxelsTheNearestSurvivorsLabel(removed, std::move(removedVoxels));
   }
 
   /** Every voxel of the grid that its opening removed takes the label of the nearest voxel of the grid that
@@ -1089,7 +1098,7 @@ private:
    * over a box around them. Either way the survivor is a nearest one; between survivors at exactly the same distance
    * the choice is deterministic. */
   VoxelChanges
-  GiveRemovedVoxelsTheNearestSurvivorsLabel(const VoxelFlags & removed, const VoxelOffsets & removedVoxels) const
+  GiveRemovedVoxelsTheNearestSurvivorsLabel(const VoxelFlags & removed, VoxelOffsets removedVoxels) const
   {
     const double searchRadius = m_DilationReach + 2.0 * std::max({ m_Spacing[0], m_Spacing[1], m_Spacing[2] });
     const std::vector<NeighbourOffset> nearestFirst = NeighbourOffsetsByDistance(
@@ -1104,7 +1113,9 @@ private:
         changes.emplace_back(voxel, m_Labels[survivor]);
       }
     };
-    VoxelOffsets farFromSurvivors;
+    // The voxels with no survivor near are gathered in place at the front of the list, as they are passed (the list
+    // stays sorted, and no second list is made): [0, numberFar) of removedVoxels.
+    std::size_t numberFar = 0;
     // The search costs the offsets it tries. Once they outnumber SearchTriesPerBoxVoxel per voxel of the removed
     // voxels' box, the voxels not searched yet take the transform: searching stays cheap where survivors are near
     // (the usual case: the atlas phantom at 4 mm, 14,222 voxels in 0.5 ms against 33 ms for the transform), and
@@ -1126,7 +1137,13 @@ private:
       const bool budgetWillRunOut = (index & 0xfff) == 0 && index > 0 && tries * removedVoxels.size() > budget * index;
       if (tries > budget || budgetWillRunOut)
       {
-        farFromSurvivors.insert(farFromSurvivors.end(), removedVoxels.begin() + index, removedVoxels.end());
+        if (numberFar < index)
+        {
+          std::copy(removedVoxels.begin() + static_cast<std::ptrdiff_t>(index),
+                    removedVoxels.end(),
+                    removedVoxels.begin() + static_cast<std::ptrdiff_t>(numberFar));
+        }
+        numberFar += removedVoxels.size() - index;
         break;
       }
       const std::size_t         voxel = removedVoxels[index];
@@ -1152,31 +1169,26 @@ private:
       if (nearest == nearestFirst.end())
       {
         previousDistance = searchRadius;
-        farFromSurvivors.push_back(voxel);
+        removedVoxels[numberFar++] = voxel;
         continue;
       }
       previousDistance = std::sqrt(nearest->squaredLength);
       takeLabelOf(voxel, GridOffset(at[0] + nearest->delta[0], at[1] + nearest->delta[1], at[2] + nearest->delta[2]));
     }
-    if (farFromSurvivors.empty())
+    if (numberFar == 0)
     {
       return changes;
     }
-    LargeVector<std::pair<std::size_t, std::size_t>> nearest;
-    nearest.reserve(farFromSurvivors.size());
-    if (!NearestSurvivorsInBox(BoxAround(farFromSurvivors, searchRadius), farFromSurvivors, removed, nearest))
+    removedVoxels.resize(numberFar);
+    const VoxelOffsets & farFromSurvivors = removedVoxels;
+    if (!NearestSurvivorsInBox(BoxAround(farFromSurvivors, searchRadius), farFromSurvivors, removed, takeLabelOf))
     {
       VoxelBox whole;
       for (int axis = 0; axis < 3; ++axis)
       {
         whole.size[axis] = static_cast<long>(m_Size[axis]);
       }
-      nearest.clear();
-      NearestSurvivorsInBox(whole, farFromSurvivors, removed, nearest);
-    }
-    for (const auto & [voxel, survivor] : nearest)
-    {
-      takeLabelOf(voxel, survivor);
+      NearestSurvivorsInBox(whole, farFromSurvivors, removed, takeLabelOf);
     }
     return changes;
   }
@@ -1215,24 +1227,25 @@ private:
     return box;
   }
 
-  /** The nearest survivor in `box` of each voxel (removed voxels in the box, in increasing order), as (voxel,
-   * survivor) grid offsets; false when a survivor outside the box might be nearer to one of them than the one
-   * found. */
+  /** The nearest survivor in `box` of each voxel (removed voxels in the box, in increasing order): found(voxel,
+   * survivor) with their grid offsets, in the voxels' order, for each voxel with a survivor in the box; false,
+   * with `found` never called, when a survivor outside the box might be nearer to one of them than the one found. */
+  template <typename TFound>
   bool
   NearestSurvivorsInBox(const VoxelBox & box, const VoxelOffsets & voxels, const VoxelFlags & removed,
-                        LargeVector<std::pair<std::size_t, std::size_t>> & nearest) const
+                        TFound && found) const
   {
     if (m_NumberOfVoxels < std::numeric_limits<uint32_t>::max())
     {
-      return NearestSurvivorsInBoxWith<uint32_t>(box, voxels, removed, nearest);
+      return NearestSurvivorsInBoxWith<uint32_t>(box, voxels, removed, found);
     }
-    return NearestSurvivorsInBoxWith<std::size_t>(box, voxels, removed, nearest);
+    return NearestSurvivorsInBoxWith<std::size_t>(box, voxels, removed, found);
   }
 
-  template <typename TSite>
+  template <typename TSite, typename TFound>
   bool
   NearestSurvivorsInBoxWith(const VoxelBox & box, const VoxelOffsets & voxels, const VoxelFlags & removed,
-                            LargeVector<std::pair<std::size_t, std::size_t>> & nearest) const
+                            TFound && found) const
   {
     Checkpoint();
     NearestSiteTransform<TSite> survivors(box, m_Spacing);
@@ -1250,9 +1263,13 @@ private:
       const std::size_t offset = GridOffset(box.lower[0], box.lower[1], box.lower[2] + static_cast<long>(slice));
       return static_cast<std::size_t>(std::lower_bound(voxels.begin(), voxels.end(), offset) - voxels.begin());
     };
-    LargeVector<std::pair<std::size_t, double>> inBoxAndToOutside(voxels.size());
-    std::vector<std::vector<uint8_t>>           linesOfSlab(slabs);
-    std::vector<uint8_t>                        slabIsComplete(slabs, 0);
+    // Per voxel asked for: its place in the box, and a lower bound, in single precision (half the memory), of how
+    // far it is from the box's sides that are not the grid's. A bound a little low only sends a voxel to the whole
+    // grid's transform more often, which gives the same survivor.
+    LargeVector<TSite>                placeInBox(voxels.size());
+    LargeVector<float>                toCutSides(voxels.size());
+    std::vector<std::vector<uint8_t>> linesOfSlab(slabs);
+    std::vector<uint8_t>              slabIsComplete(slabs, 0);
     detail::ForEachIndexInParallel(
       slabs,
       slabs,
@@ -1281,7 +1298,8 @@ private:
               if (query < endQuery && voxels[query] == offset)
               {
                 lines[static_cast<std::size_t>(i + box.size[0] * j)] = 1;
-                inBoxAndToOutside[query++] = { index, DistanceToTheCutSides(box, { { i, j, k } }) };
+                placeInBox[query] = static_cast<TSite>(index);
+                toCutSides[query++] = FloatNotAbove(DistanceToTheCutSides(box, { { i, j, k } }));
               }
             }
           }
@@ -1312,7 +1330,8 @@ private:
       voxels.size(), slabs, MinimumVoxelsPerThread, [&](std::size_t begin, std::size_t end) {
         for (std::size_t query = begin; query < end; ++query)
         {
-          const auto & [indexInBox, toOutside] = inBoxAndToOutside[query];
+          const std::size_t indexInBox = placeInBox[query];
+          const double      toOutside = toCutSides[query];
           if (toOutside != Infinity && !(survivors.SquaredDistance(indexInBox) <= toOutside * toOutside))
           {
             allInBox = false;
@@ -1329,10 +1348,18 @@ private:
     {
       if (answers[query] != NearestSiteTransform<TSite>::NoSite)
       {
-        nearest.emplace_back(voxels[query], static_cast<std::size_t>(answers[query]));
+        found(voxels[query], static_cast<std::size_t>(answers[query]));
       }
     }
     return true;
+  }
+
+  /** The largest float not above `value` (infinity stays infinity). */
+  static float
+  FloatNotAbove(double value)
+  {
+    const float rounded = static_cast<float>(value);
+    return static_cast<double>(rounded) > value ? std::nextafter(rounded, 0.0F) : rounded;
   }
 
   /** How far the voxel at `inBox` is from the sides of the box that are not the grid's (beyond them, a survivor
