@@ -71,39 +71,45 @@ struct VoxelBox
  * after the pass along an axis, each voxel holds the nearest site among the voxels that differ from it along that
  * axis and the earlier ones only. The result is right at the sites and at the voxels asked for (AddQuery): a line
  * whose voxels are all sites, or hold no site yet, is the same after its pass, and the last pass skips the lines
- * without a voxel asked for. Each site carries a name of the caller's (the regulariser's: its grid offset), as
- * `TSite`: 32 bits where the names allow, which makes the transform's memory and its passes a third cheaper than
- * 64. */
-template <typename TSite>
+ * without a voxel asked for. A voxel holds its site as the step to it along each axis, `TStep` each: 16 bits
+ * where the box allows, six bytes a voxel where a squared distance and a site's name took twelve; the memory is
+ * the regularisation's peak (DelaunayRefinementLargeBuffers.h). The distances a pass reads are computed from the
+ * steps, with the same arithmetic, in the same order, as when they were stored, so they are the same numbers. */
+template <typename TStep>
 class NearestSiteTransform
 {
 public:
-  static constexpr TSite NoSite = std::numeric_limits<TSite>::max();
+  /** The step of a voxel that holds no site yet. */
+  static constexpr TStep NoStep = std::numeric_limits<TStep>::min();
+
+  /** Whether every step within the box fits in `TStep` (NoStep apart). */
+  static bool
+  Fits(const VoxelBox & box)
+  {
+    return std::max({ box.size[0], box.size[1], box.size[2] }) <= static_cast<long>(std::numeric_limits<TStep>::max());
+  }
 
   /** Every voxel of the box is to be set, as a site or not, before Compute(): the memory is not filled before
    * (the caller's one pass over the box, which can be shared among threads, does it). */
   NearestSiteTransform(const VoxelBox & box, const Vector3 & spacing)
     : m_Box(box)
     , m_Spacing(spacing)
-    , m_SquaredDistance(box.NumberOfVoxels())
-    , m_Site(box.NumberOfVoxels())
+    , m_Steps(box.NumberOfVoxels())
     , m_LastPassLines(static_cast<std::size_t>(box.size[0] * box.size[1]), 0)
   {}
 
-  /** Sets the voxel at `index` in the box as a site named `name` (not NoSite). */
+  /** Sets the voxel at `index` in the box as a site. */
   void
-  SetSite(std::size_t index, TSite name)
+  SetSite(std::size_t index)
   {
-    m_SquaredDistance[index] = 0.0;
-    m_Site[index] = name;
+    m_Steps[index] = { { 0, 0, 0 } };
   }
 
   /** Sets the voxel at `index` in the box as not a site. */
   void
   SetNotSite(std::size_t index)
   {
-    m_SquaredDistance[index] = Infinity;
-    m_Site[index] = NoSite;
+    m_Steps[index] = { { NoStep, 0, 0 } };
   }
 
   /** Asks for the nearest site of the voxels of the line at `line` (x + size x * y) in every slice of the box. */
@@ -143,11 +149,11 @@ public:
                                              static_cast<std::size_t>(a) * strides[first] + b * strides[second];
                                            if (axis == 0)
                                            {
-                                             TransformFirstLine(start, length, m_Spacing[0], scratch);
+                                             TransformFirstLine(start, length, scratch);
                                            }
                                            else if (axis == 1 || m_LastPassLines[start])
                                            {
-                                             TransformLine(start, strides[axis], length, m_Spacing[axis], scratch);
+                                             TransformLine(axis, start, strides[axis], length, scratch);
                                            }
                                          }
                                        }
@@ -155,31 +161,60 @@ public:
     }
   }
 
+  /** The squared distance from the voxel at `index` in the box to its nearest site; infinite when it has none. */
   double
   SquaredDistance(std::size_t index) const
   {
-    return m_SquaredDistance[index];
+    return SquaredDistanceAfterPass(m_Steps[index], 2);
   }
 
-  /** The name of the site nearest to the voxel at `index` in the box; NoSite when there is none. */
-  TSite
-  Site(std::size_t index) const
+  /** Whether the voxel at `index` in the box has a nearest site. */
+  bool
+  HasSite(std::size_t index) const
   {
-    return m_Site[index];
+    return m_Steps[index][0] != NoStep;
+  }
+
+  /** The step from the voxel at `index` in the box to its nearest site, along each axis (HasSite() first). */
+  std::array<long, 3>
+  StepToSite(std::size_t index) const
+  {
+    const Steps & steps = m_Steps[index];
+    return { { steps[0], steps[1], steps[2] } };
   }
 
 private:
+  using Steps = std::array<TStep, 3>;
+
+  /** The squared distance of `steps` once the passes up to `axis` have run: the sum, over those axes, of the squared
+   * step times the spacing, last axis first, as TransformLine() adds them. */
+  double
+  SquaredDistanceAfterPass(const Steps & steps, int axis) const
+  {
+    if (steps[0] == NoStep)
+    {
+      return Infinity;
+    }
+    double squared = 0.0;
+    for (int earlier = 0; earlier <= axis; ++earlier)
+    {
+      const double offset = static_cast<double>(steps[earlier]) * m_Spacing[earlier];
+      squared = offset * offset + squared;
+    }
+    return squared;
+  }
+
   /** One line's working space, a thread's own. */
   struct LineScratch
   {
     explicit LineScratch(std::size_t length)
       : line(length)
-      , lineSite(length)
+      , lineSteps(length)
       , nextSite(length)
     {}
 
     std::vector<double>      line;
-    std::vector<TSite>       lineSite;
+    std::vector<Steps>       lineSteps;
     std::vector<std::size_t> vertices;
     std::vector<double>      boundaries;
     /** TransformFirstLine()'s: the first site at or after each voxel of the line. */
@@ -191,22 +226,21 @@ private:
    * TransformLine() gives there in exact arithmetic, at a fraction of its cost (no parabolas, no divisions). A tie
    * is two survivors at the same distance: either is a nearest one (RegularizeLabels' definition). */
   void
-  TransformFirstLine(std::size_t start, std::size_t length, double spacing, LineScratch & scratch)
+  TransformFirstLine(std::size_t start, std::size_t length, LineScratch & scratch)
   {
     std::vector<std::size_t> & nextSite = scratch.nextSite;
-    double * const             squaredDistance = m_SquaredDistance.get() + start;
-    TSite * const              site = m_Site.get() + start;
+    Steps * const              steps = m_Steps.get() + start;
     constexpr auto             none = std::numeric_limits<std::size_t>::max();
     std::size_t                next = none;
     for (std::size_t x = length; x-- > 0;)
     {
-      next = squaredDistance[x] == 0.0 ? x : next;
+      next = steps[x][0] == 0 ? x : next;
       nextSite[x] = next;
     }
     std::size_t previous = none;
     for (std::size_t x = 0; x < length; ++x)
     {
-      if (squaredDistance[x] == 0.0)
+      if (steps[x][0] == 0)
       {
         previous = x;
         continue;
@@ -218,26 +252,25 @@ private:
       }
       const std::size_t nearest =
         previous == none ? after : (after == none || x - previous <= after - x ? previous : after);
-      const double offset = (static_cast<double>(x) - static_cast<double>(nearest)) * spacing;
-      squaredDistance[x] = offset * offset;
-      site[x] = site[nearest];
+      steps[x] = { { static_cast<TStep>(static_cast<long>(nearest) - static_cast<long>(x)), 0, 0 } };
     }
   }
 
-  /** The lower envelope of the parabolas (x - q h)² + f(q) over the line's finite values f(q). */
+  /** The lower envelope of the parabolas (x - q h)² + f(q) over the line's finite values f(q), along `axis`. */
   void
-  TransformLine(std::size_t start, std::size_t stride, std::size_t length, double spacing, LineScratch & scratch)
+  TransformLine(int axis, std::size_t start, std::size_t stride, std::size_t length, LineScratch & scratch)
   {
     std::vector<double> &      line = scratch.line;
-    std::vector<TSite> &       lineSite = scratch.lineSite;
+    std::vector<Steps> &       lineSteps = scratch.lineSteps;
     std::vector<std::size_t> & vertices = scratch.vertices;
     std::vector<double> &      boundaries = scratch.boundaries;
+    const double               spacing = m_Spacing[axis];
     bool                       holdsASite = false;
     bool                       holdsAVoxelAway = false;
     for (std::size_t q = 0; q < length; ++q)
     {
-      line[q] = m_SquaredDistance[start + q * stride];
-      lineSite[q] = m_Site[start + q * stride];
+      lineSteps[q] = m_Steps[start + q * stride];
+      line[q] = SquaredDistanceAfterPass(lineSteps[q], axis - 1);
       holdsASite = holdsASite || line[q] != Infinity;
       holdsAVoxelAway = holdsAVoxelAway || line[q] != 0.0;
     }
@@ -290,16 +323,15 @@ private:
       {
         continue;
       }
-      const double offset = (static_cast<double>(x) - static_cast<double>(q)) * spacing;
-      m_SquaredDistance[start + x * stride] = offset * offset + line[q];
-      m_Site[start + x * stride] = lineSite[q];
+      Steps steps = lineSteps[q];
+      steps[axis] = static_cast<TStep>(static_cast<long>(q) - static_cast<long>(x));
+      m_Steps[start + x * stride] = steps;
     }
   }
 
-  VoxelBox                        m_Box;
-  Vector3                         m_Spacing;
-  UninitializedLargeArray<double> m_SquaredDistance;
-  UninitializedLargeArray<TSite>  m_Site;
+  VoxelBox                       m_Box;
+  Vector3                        m_Spacing;
+  UninitializedLargeArray<Steps> m_Steps;
   /** The lines of the last pass, by their voxel in the first slice, that hold a voxel asked for. */
   std::vector<uint8_t> m_LastPassLines;
 };
@@ -1235,23 +1267,28 @@ private:
   NearestSurvivorsInBox(const VoxelBox & box, const VoxelOffsets & voxels, const VoxelFlags & removed,
                         TFound && found) const
   {
-    if (m_NumberOfVoxels < std::numeric_limits<uint32_t>::max())
+    const bool small = m_NumberOfVoxels < std::numeric_limits<uint32_t>::max();
+    if (NearestSiteTransform<int16_t>::Fits(box))
     {
-      return NearestSurvivorsInBoxWith<uint32_t>(box, voxels, removed, found);
+      return small ? NearestSurvivorsInBoxWith<uint32_t, int16_t>(box, voxels, removed, found)
+                   : NearestSurvivorsInBoxWith<std::size_t, int16_t>(box, voxels, removed, found);
     }
-    return NearestSurvivorsInBoxWith<std::size_t>(box, voxels, removed, found);
+    return small ? NearestSurvivorsInBoxWith<uint32_t, int32_t>(box, voxels, removed, found)
+                 : NearestSurvivorsInBoxWith<std::size_t, int32_t>(box, voxels, removed, found);
   }
 
-  template <typename TSite, typename TFound>
+  /** NearestSurvivorsInBox() with places in the box and grid offsets as `TPlace` (32 bits where the grid allows)
+   * and the transform's steps as `TStep`. */
+  template <typename TPlace, typename TStep, typename TFound>
   bool
   NearestSurvivorsInBoxWith(const VoxelBox & box, const VoxelOffsets & voxels, const VoxelFlags & removed,
                             TFound && found) const
   {
     Checkpoint();
-    NearestSiteTransform<TSite> survivors(box, m_Spacing);
-    // The box in grid order: its survivors are the sites, named by their grid offsets, and the voxels, which come in
-    // the same order, are found in it with their place in the box and how far the box's sides that are not the
-    // grid's are from them (no divisions). Slabs of slices are read on the threads: the voxels of a slab are a
+    NearestSiteTransform<TStep> survivors(box, m_Spacing);
+    // The box in grid order: its survivors are the sites, and the voxels, which come in the same order, are found
+    // in it with their place in the box and how far the box's sides that are not the grid's are from them (no
+    // divisions). Slabs of slices are read on the threads: the voxels of a slab are a
     // contiguous part of `voxels`, and each slab marks the lines it asks for in a list of its own.
     const std::size_t sliceVoxels = static_cast<std::size_t>(box.size[0] * box.size[1]);
     const std::size_t slabs = std::max<std::size_t>(
@@ -1266,7 +1303,7 @@ private:
     // Per voxel asked for: its place in the box, and a lower bound, in single precision (half the memory), of how
     // far it is from the box's sides that are not the grid's. A bound a little low only sends a voxel to the whole
     // grid's transform more often, which gives the same survivor.
-    LargeVector<TSite>                placeInBox(voxels.size());
+    LargeVector<TPlace>               placeInBox(voxels.size());
     LargeVector<float>                toCutSides(voxels.size());
     std::vector<std::vector<uint8_t>> linesOfSlab(slabs);
     std::vector<uint8_t>              slabIsComplete(slabs, 0);
@@ -1291,14 +1328,14 @@ private:
               const std::size_t offset = rowStart + static_cast<std::size_t>(i);
               if (!removed[offset])
               {
-                survivors.SetSite(index, static_cast<TSite>(offset));
+                survivors.SetSite(index);
                 continue;
               }
               survivors.SetNotSite(index);
               if (query < endQuery && voxels[query] == offset)
               {
                 lines[static_cast<std::size_t>(i + box.size[0] * j)] = 1;
-                placeInBox[query] = static_cast<TSite>(index);
+                placeInBox[query] = static_cast<TPlace>(index);
                 toCutSides[query++] = FloatNotAbove(DistanceToTheCutSides(box, { { i, j, k } }));
               }
             }
@@ -1323,32 +1360,33 @@ private:
       }
     }
     survivors.Compute([this] { Checkpoint(); }, m_NumberOfThreads);
-    // The answers, read on the threads into their places, then listed in order.
-    LargeVector<TSite> answers(voxels.size());
-    std::atomic<bool>  allInBox{ true };
+    // Whether every survivor found is nearer than the box's cut sides, on the threads; then the survivors, in order.
+    std::atomic<bool> allInBox{ true };
     detail::ForEachRangeInParallel(
       voxels.size(), slabs, MinimumVoxelsPerThread, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t query = begin; query < end; ++query)
+        for (std::size_t query = begin; query < end && allInBox; ++query)
         {
-          const std::size_t indexInBox = placeInBox[query];
-          const double      toOutside = toCutSides[query];
-          if (toOutside != Infinity && !(survivors.SquaredDistance(indexInBox) <= toOutside * toOutside))
+          const double toOutside = toCutSides[query];
+          if (toOutside != Infinity && !(survivors.SquaredDistance(placeInBox[query]) <= toOutside * toOutside))
           {
             allInBox = false;
-            return;
           }
-          answers[query] = survivors.Site(indexInBox);
         }
       });
     if (!allInBox)
     {
       return false;
     }
+    const std::array<long, 3> gridStrides{
+      { 1, static_cast<long>(m_Size[0]), static_cast<long>(m_Size[0] * m_Size[1]) }
+    };
     for (std::size_t query = 0; query < voxels.size(); ++query)
     {
-      if (answers[query] != NearestSiteTransform<TSite>::NoSite)
+      if (survivors.HasSite(placeInBox[query]))
       {
-        found(voxels[query], static_cast<std::size_t>(answers[query]));
+        const std::array<long, 3> step = survivors.StepToSite(placeInBox[query]);
+        const long toSite = step[0] * gridStrides[0] + step[1] * gridStrides[1] + step[2] * gridStrides[2];
+        found(voxels[query], static_cast<std::size_t>(static_cast<long>(voxels[query]) + toSite));
       }
     }
     return true;
