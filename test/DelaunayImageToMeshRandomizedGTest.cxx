@@ -1169,7 +1169,8 @@ TEST(RandomizedKnownDefect, ComponentsADeltaAcrossCanBeLost)
  * ran away, and since R4′ prefers split points that keep the boundaries manifold that case ends (154 vertices). A
  * later search (seeds 4,500-10,499) found Mixed 8007944 (ρ = 1, σ = 14.1°, δ = 1.34 mm), which still reaches the
  * cap (and Mixed 8011618, ρ = 1, σ = 19.3°, seeds 6,000-12,999; Mixed 8019154, ρ = 1, σ = 19.3°, δ = 1.07 mm,
- * seeds 19,000-19,399, found at c670540); pinned with a cap of 5,000 vertices, 20 times what
+ * seeds 19,000-19,399, found at c670540; Mixed 8020056, ρ = 1, σ = 17.0°, δ = 0.92 mm, seeds 19,800-20,199, found
+ * at 87797bf); pinned with a cap of 5,000 vertices, 20 times what
  * an ending run needs. The error says that termination is proven for ρ >= 2 and σ = 0 only. */
 TEST(RandomizedKnownDefect, RhoOneWithSigmaNearTwentyCanRefineWithoutEnd)
 {
