@@ -87,11 +87,14 @@ AllocateLargeBuffer(std::size_t bytes)
 inline void
 ReleaseLargeBuffer(void * memory)
 {
+  // clang-format reads the second branch as the continuation of the first.
+  // clang-format off
 #if defined(__linux__)
   std::free(memory);
 #else
-  ::       operator delete(memory);
+  ::operator delete(memory);
 #endif
+  // clang-format on
 }
 
 /** A standard allocator whose allocations of LargeBufferBytes and more are AllocateLargeBuffer()'s: for
