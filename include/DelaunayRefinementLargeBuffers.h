@@ -153,7 +153,8 @@ public:
 template <typename T>
 using LargeVector = std::vector<T, LargeBufferAllocator<T>>;
 
-/** An array whose values are left unset, for buffers that their first pass writes whole. */
+/** An array whose values are left unset, for buffers that their first pass writes whole; its memory is
+ * LargeBufferAllocator's. */
 template <typename T>
 class UninitializedLargeArray
 {
@@ -162,22 +163,11 @@ class UninitializedLargeArray
 
 public:
   explicit UninitializedLargeArray(std::size_t count)
-    : m_Values(static_cast<T *>(count * sizeof(T) < LargeBufferBytes ? ::operator new(count * sizeof(T))
-                                                                     : AllocateLargeBuffer(count * sizeof(T))))
-    , m_IsLarge(count * sizeof(T) >= LargeBufferBytes)
+    : m_Count(count)
+    , m_Values(LargeBufferAllocator<T>().allocate(count))
   {}
 
-  ~UninitializedLargeArray()
-  {
-    if (m_IsLarge)
-    {
-      ReleaseLargeBuffer(m_Values);
-    }
-    else
-    {
-      ::operator delete(m_Values);
-    }
-  }
+  ~UninitializedLargeArray() { LargeBufferAllocator<T>().deallocate(m_Values, m_Count); }
 
   UninitializedLargeArray(const UninitializedLargeArray &) = delete;
   UninitializedLargeArray &
@@ -205,8 +195,8 @@ public:
   }
 
 private:
-  T * const  m_Values;
-  const bool m_IsLarge;
+  const std::size_t m_Count;
+  T * const         m_Values;
 };
 
 } // namespace delaunay_refinement
