@@ -905,6 +905,13 @@ private:
     return *found;
   }
 
+  /** How far a step along each axis moves a grid offset. */
+  std::array<long, 3>
+  GridStrides() const
+  {
+    return { { 1, static_cast<long>(m_Size[0]), static_cast<long>(m_Size[0] * m_Size[1]) } };
+  }
+
   std::size_t
   GridOffset(long i, long j, long k) const
   {
@@ -1136,7 +1143,7 @@ private:
     const std::vector<NeighbourOffset> nearestFirst = NeighbourOffsetsByDistance(
       searchRadius,
       m_Spacing,
-      { { 1, static_cast<long>(m_Size[0]), static_cast<long>(m_Size[0] * m_Size[1]) } },
+      GridStrides(),
       { { static_cast<long>(m_Size[0]) - 1, static_cast<long>(m_Size[1]) - 1, static_cast<long>(m_Size[2]) - 1 } });
     VoxelChanges changes;
     const auto   takeLabelOf = [&](std::size_t voxel, std::size_t survivor) {
@@ -1377,9 +1384,7 @@ private:
     {
       return false;
     }
-    const std::array<long, 3> gridStrides{
-      { 1, static_cast<long>(m_Size[0]), static_cast<long>(m_Size[0] * m_Size[1]) }
-    };
+    const std::array<long, 3> gridStrides = GridStrides();
     for (std::size_t query = 0; query < voxels.size(); ++query)
     {
       if (survivors.HasSite(placeInBox[query]))
