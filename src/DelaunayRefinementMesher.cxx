@@ -172,7 +172,7 @@ private:
       return Perturb(cell) == SliverPerturbation::Outcome::Moved;
     }
     const SliverSplit::Split split = m_SliverSplit.Choose(cell, center, cell->cache.squaredRadius);
-    if (!split.accepted && FlatCaps::IsCapOnBackground(m_State, cell) &&
+    if (!split.accepted && FlatCaps::IsCapOnBackground(m_State, m_Sizing, cell) &&
         m_SliversThatCannotBePeeled.count(m_State.SortedCornersOf(cell)) == 0)
     {
       ++m_Statistics.sliverCapsLeftToPeel;
@@ -275,7 +275,7 @@ private:
       {
         continue;
       }
-      if (FlatCaps::IsCapOnBackground(m_State, entry.cell))
+      if (FlatCaps::IsCapOnBackground(m_State, m_Sizing, entry.cell))
       {
         stillCaps.push_back(entry);
         continue;
@@ -295,7 +295,7 @@ private:
   void
   PeelFlatCaps()
   {
-    const FlatCaps          flatCaps(m_State, m_Repair, m_Parameters.minimumDihedralAngle);
+    const FlatCaps          flatCaps(m_State, m_Sizing, m_Repair, m_Parameters.minimumDihedralAngle);
     FlatCaps::Relabelling & peeled = m_PeeledCaps;
     peeled = flatCaps.Relabel();
     for (int round = 0; !peeled.sliversKept.empty() && round < SliversThatCannotBePeeledRounds; ++round)

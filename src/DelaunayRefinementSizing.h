@@ -22,6 +22,7 @@
 // everywhere unless the manifold repair refined around a place, as CGAL Mesh_3's sizing fields are queried by
 // its criteria.
 
+#include "DelaunayRefinementGeometry.h"
 #include "DelaunayRefinementSpatialGrid.h"
 #include "DelaunayRefinementTypes.h"
 
@@ -59,6 +60,16 @@ public:
       }
     });
     return delta;
+  }
+
+  /** Whether a triangle with these corners keeps R1's bound as a boundary facet: its circumradius below the local δ
+   * at each corner. A step that puts a facet on a boundary without a rule's insertion (a relabelling, a cap peeled
+   * off) must keep it, as R1 and R3 keep it for the facets they make. */
+  bool
+  KeepsBoundaryFacetBound(const Vector3 & a, const Vector3 & b, const Vector3 & c) const
+  {
+    const double localDelta = std::min({ LocalDelta(a), LocalDelta(b), LocalDelta(c) });
+    return TriangleCircumradius(a, b, c) < localDelta;
   }
 
   /** Samples at `delta` around `point` (where that is finer than elsewhere); the zone covers the facets around

@@ -365,13 +365,7 @@ private:
         {
           return false;
         }
-        // R1's bound: a boundary facet's circumradius stays below the local δ.
-        double localDelta = m_Sizing.LocalDelta(corners[0]);
-        for (int corner = 1; corner < 3; ++corner)
-        {
-          localDelta = std::min(localDelta, m_Sizing.LocalDelta(corners[corner]));
-        }
-        if (!(TriangleCircumradius(corners[0], corners[1], corners[2]) < localDelta))
+        if (!m_Sizing.KeepsBoundaryFacetBound(corners[0], corners[1], corners[2]))
         {
           return false;
         }
@@ -498,7 +492,8 @@ private:
     {
       if (!triangulation.is_infinite(cell) && cell->cache.label != BackgroundLabel &&
           m_DihedralBound.IsSliver(m_State.CornersOf(cell)) &&
-          std::find(moved.begin(), moved.end(), cell) == moved.end() && FlatCaps::IsCapOnBackground(m_State, cell))
+          std::find(moved.begin(), moved.end(), cell) == moved.end() &&
+          FlatCaps::IsCapOnBackground(m_State, m_Sizing, cell))
       {
         caps.push_back(cell);
       }
@@ -509,8 +504,9 @@ private:
   bool
   AreStillCapsOnBackground(const std::vector<CellHandle> & caps) const
   {
-    return std::all_of(
-      caps.begin(), caps.end(), [this](CellHandle cell) { return FlatCaps::IsCapOnBackground(m_State, cell); });
+    return std::all_of(caps.begin(), caps.end(), [this](CellHandle cell) {
+      return FlatCaps::IsCapOnBackground(m_State, m_Sizing, cell);
+    });
   }
 
   /** Whether the cell carries a tissue's label that none of its face neighbours carries: a one-tetrahedron
