@@ -245,7 +245,7 @@ struct FilterSettings
 {
   double surfaceSamplingDistance{ 0.0 };
   double radiusEdgeBound{ 2.0 };
-  double minimumDihedralAngle{ 0.0 };
+  double minimumDihedralAngle{ dr::RefinementParameters{}.minimumDihedralAngle };
   /** The safety cap: far above what any of the suite's images needs at its δ (its largest meshes have 30,000
    * vertices), so that reaching it is a runaway refinement (10,000 stopped five legitimate meshes). */
   SizeValueType          maximumNumberOfVertices{ 100000 };
@@ -350,7 +350,8 @@ DescribeRefinement(const dr::RefinementStatistics & statistics)
   std::ostringstream text;
   text << statistics.triangulationVertices << " triangulation vertices; R1 " << statistics.insertionsR1 << ", R2 "
        << statistics.insertionsR2 << ", R3 " << statistics.insertionsR3 << ", R4 " << statistics.insertionsR4
-       << ", R4' " << statistics.insertionsR4Dihedral << ", E1-E3 "
+       << ", R4' " << statistics.insertionsR4Dihedral << " (" << statistics.sliverSplitsFailingAcceptance
+       << " failing its acceptance test; " << statistics.sliverPerturbations << " moves), E1-E3 "
        << statistics.insertionsE1 + statistics.insertionsE2 + statistics.insertionsE3 << ", deleted "
        << statistics.deletedVertices << "; manifold refinement: " << statistics.manifoldRefinementRounds << " rounds, "
        << statistics.manifoldRefinementZones << " zones, " << statistics.remainingNonManifoldVertices
@@ -793,13 +794,14 @@ CheckWellFormed(const dr::TetrahedralMesh & mesh, const dr::TetrahedronQuality &
 }
 
 /** Theorem 2 (σ = 0, any ρ >= 1): boundary triangles inside their surface balls (circumradius < δ), hence
- * boundary planar angles > 30°; with ρ >= 2 only feature vertices on the boundary (Lemma 5). Lemma 2's edges are
- * checked against the exported local sizing (CheckEdgesAgainstLocalSizing). Where the refinement halved δ locally
- * for manifoldness, Lemma 5 does not hold: a cell across the edge of a refined zone has edges shorter than the δ at
- * its circumcentre, so an intersecting cell can reach radius-edge ratio ρ and its split (R4 on intersecting cells)
- * leaves a free vertex near the surface. */
+ * boundary planar angles > 30°; with ρ >= 2 only feature vertices on the boundary (Lemma 5), unless
+ * `lemma5MayFail`. Lemma 2's edges are checked against the exported local sizing (CheckEdgesAgainstLocalSizing).
+ * Lemma 5 may fail where the refinement halved δ locally for manifoldness (a cell across the edge of a refined zone
+ * has edges shorter than the δ at its circumcentre, so an intersecting cell can reach radius-edge ratio ρ and its
+ * split, R4 on intersecting cells, leaves a free vertex near the surface), and where R4′ split a sliver at a point
+ * that failed its acceptance test. */
 inline void
-CheckBoundaryGuarantees(const dr::TetrahedralMesh & mesh, double delta, bool refinedLocally, double rho,
+CheckBoundaryGuarantees(const dr::TetrahedralMesh & mesh, double delta, bool lemma5MayFail, double rho,
                         ViolationList & violations)
 {
   const dr::SurfaceTopology boundary = dr::ComputeBoundaryTopology(mesh);
@@ -812,7 +814,7 @@ CheckBoundaryGuarantees(const dr::TetrahedralMesh & mesh, double delta, bool ref
   {
     violations.Add("largest boundary triangle circumradius ", largestCircumradius, " >= delta ", delta);
   }
-  if (rho < 2.0 || refinedLocally)
+  if (rho < 2.0 || lemma5MayFail)
   {
     return;
   }
@@ -1161,10 +1163,12 @@ CheckGuarantees(TFilter & filter, const TImage & image, const FilterSettings & s
   {
     violations.Add(problem);
   }
-  if (!(sigma > 0.0))
-  {
-    CheckBoundaryGuarantees(mesh, delta, sizing.refinedLocally, rho, violations);
-  }
+  // With σ > 0 the boundary keeps its bounds as well (measured, not proven), and its vertices are on the surface
+  // unless R4′ had to split a sliver at a point that failed its acceptance test (docs/algorithm.md, "R4′ picks its
+  // point"), the one step that may put a free vertex there.
+  const bool freeBoundaryVerticesMayBe =
+    sigma > 0.0 && filter.GetRefinementStatistics().sliverSplitsFailingAcceptance > 0;
+  CheckBoundaryGuarantees(mesh, delta, sizing.refinedLocally || freeBoundaryVerticesMayBe, rho, violations);
   CheckLabels(mesh, tissues, violations);
   CheckCircumcenterLabels(image, filter, settings, tissues, mesh, violations);
   CheckAgainstSegmentation(filter, settings, mesh, violations, result);
