@@ -29,8 +29,14 @@ import sys
 from DelaunayImageToMeshCommandLineTesting import (BALL_VOLUMES, ISO_BALL_VOLUME, check, describe, mesh_and_report,
                                                    relative_difference, run, tetrahedra_per_label)
 
-# δ = 2 mm against voxels of 1 to 1.5 mm: the mesh volume is within a few percent of the balls'.
+# δ = 2 mm against voxels of 1 to 1.5 mm: the voxels' volume is within a few percent of the balls'.
 VOLUME_TOLERANCE = 0.06
+# The mesh's, of secant triangles up to δ across on a ball of radius 5 mm (δ / r = 0.4), is below it by more: measured
+# on the DICOM series with δ from 1.8 to 2.2 mm, up to 6.3 % below for the small ball (6.1 % at 1.9 mm before the
+# change that set this). The 6 % that held at δ = 2 mm exactly did so on one side of a tie of R1 on the unrotated
+# voxel lattice, which the refinement no longer resolves by δ's last bits (src/DelaunayRefinementRules.h,
+# LatticeTieMargin).
+MESH_VOLUME_TOLERANCE = 0.08
 
 
 def labels_of(report):
@@ -40,8 +46,9 @@ def labels_of(report):
 def check_ball_volumes(report, name):
     for label, volume in BALL_VOLUMES.items():
         entry = labels_of(report)[label]
-        for measured in ("mesh_volume_mm3", "segmented_volume_mm3"):
-            check(relative_difference(entry[measured], volume) < VOLUME_TOLERANCE,
+        for measured, tolerance in (("mesh_volume_mm3", MESH_VOLUME_TOLERANCE),
+                                    ("segmented_volume_mm3", VOLUME_TOLERANCE)):
+            check(relative_difference(entry[measured], volume) < tolerance,
                   f"{name}: label {label} {measured} = {entry[measured]:.1f}, the ball's is {volume:.1f}")
 
 
