@@ -1170,7 +1170,8 @@ TEST(RandomizedKnownDefect, ComponentsADeltaAcrossCanBeLost)
  * later search (seeds 4,500-10,499) found Mixed 8007944 (ρ = 1, σ = 14.1°, δ = 1.34 mm), which still reaches the
  * cap (and Mixed 8011618, ρ = 1, σ = 19.3°, seeds 6,000-12,999; Mixed 8019154, ρ = 1, σ = 19.3°, δ = 1.07 mm,
  * seeds 19,000-19,399, found at c670540; Mixed 8020056, ρ = 1, σ = 17.0°, δ = 0.92 mm, seeds 19,800-20,199, found
- * at 87797bf); pinned with a cap of 5,000 vertices, 20 times what
+ * at 87797bf; Mixed 8021071, ρ = 1, σ = 17.3°, δ = 1.98 mm, and 8021246, ρ = 1, σ = 18.9°, δ = 0.52 mm, seeds
+ * 21,000-21,399, found at 11bc406); pinned with a cap of 5,000 vertices, 20 times what
  * an ending run needs. The error says that termination is proven for ρ >= 2 and σ = 0 only. */
 TEST(RandomizedKnownDefect, RhoOneWithSigmaNearTwentyCanRefineWithoutEnd)
 {
