@@ -484,6 +484,13 @@ MeshImage(const Options & options)
     std::cout << "relabelled at non-manifold places: " << filter->GetNumberOfTopologyRelabelledTetrahedra()
               << " tetrahedra took a neighbour's label (--no-topology-relabelling keeps them)\n";
   }
+  const std::size_t forcedSliverSplits = filter->GetRefinementStatistics().sliverSplitsFailingAcceptance;
+  if (!options.quiet && forcedSliverSplits > 0)
+  {
+    std::cout << "sliver removal: " << forcedSliverSplits
+              << " slivers, in layers about delta thick, could be split only where a boundary loses a bound (a free "
+                 "vertex on it, within delta of the surface)\n";
+  }
   const delaunay_refinement::TetrahedralMesh & mesh = filter->GetRefinedMesh();
   phaseSeconds.emplace_back("mesh", meshTime.Seconds());
 
