@@ -793,9 +793,9 @@ CheckWellFormed(const dr::TetrahedralMesh & mesh, const dr::TetrahedronQuality &
   }
 }
 
-/** Theorem 2 (σ = 0, any ρ >= 1): boundary triangles inside their surface balls (circumradius < δ), hence
- * boundary planar angles > 30°; with ρ >= 2 only feature vertices on the boundary (Lemma 5), unless
- * `lemma5MayFail`. Lemma 2's edges are checked against the exported local sizing (CheckEdgesAgainstLocalSizing).
+/** Theorem 2 (proven for σ = 0, any ρ >= 1; measured with σ > 0): boundary triangles inside their surface balls
+ * (circumradius < δ), hence boundary planar angles > 30°; with ρ >= 2 only feature vertices on the boundary (Lemma 5),
+ * unless `lemma5MayFail`. Lemma 2's edges are checked against the exported local sizing (CheckEdgesAgainstLocalSizing).
  * Lemma 5 may fail where the refinement halved δ locally for manifoldness (a cell across the edge of a refined zone
  * has edges shorter than the δ at its circumcentre, so an intersecting cell can reach radius-edge ratio ρ and its
  * split, R4 on intersecting cells, leaves a free vertex near the surface), and where R4′ split a sliver at a point
