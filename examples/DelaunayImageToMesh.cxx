@@ -212,8 +212,8 @@ AddOptions(CLI::App & app, Options & options)
     ->capture_default_str()
     ->check(CoreRange(&RefinementParameters::radiusEdgeBound));
   app.add_option("--min-dihedral", options.minimumDihedralAngle)
-    ->description("also split tetrahedra with a dihedral angle below DEG, 0 to 30 (the R4'\nvariant; 0 = off). "
-                  "Nothing is proven with it.")
+    ->description("remove slivers: split or move tetrahedra with a dihedral angle below DEG, 0 to\n30 (the R4' "
+                  "variant; 0 = off, the paper's method, whose bounds are proven)")
     ->type_name("DEG")
     ->capture_default_str()
     ->check(CoreRange(&RefinementParameters::minimumDihedralAngle));

@@ -113,8 +113,9 @@ public:
   itkSetMacro(RadiusEdgeBound, double);
   itkGetConstMacro(RadiusEdgeBound, double);
 
-  /** σ, a minimum dihedral angle in degrees (the R4' variant, which splits slivers). Default 0 = off;
-   * valid: [0, 30]. With σ > 0 nothing is proven: the 30° boundary bound may not hold. */
+  /** σ, a minimum dihedral angle in degrees (the R4' variant, which removes slivers). Default 10; 0 = off, the
+   * paper's method, whose bounds are proven; valid: [0, 30]. With σ > 0 the bounds are measured, not proven
+   * (RefinementParameters::minimumDihedralAngle says what was measured). */
   itkSetMacro(MinimumDihedralAngle, double);
   itkGetConstMacro(MinimumDihedralAngle, double);
 

@@ -562,6 +562,13 @@ MaybeSelectLabels(RandomCase & randomCase, CaseRandom & random)
   }
 }
 
+/** Whether σ is the filter's default: a case that drew no σ of its own (a drawn one is never exactly the default). */
+bool
+IsTheDefaultMinimumDihedralAngle(double sigma)
+{
+  return sigma == dr::RefinementParameters{}.minimumDihedralAngle;
+}
+
 void
 ChooseParameters(RandomCase & randomCase, CaseRandom & random)
 {
@@ -599,6 +606,12 @@ ChooseParameters(RandomCase & randomCase, CaseRandom & random)
   // Drawn last, so that the other settings of each seed stay what they were before the option existed.
   settings.joinDiagonalVoxels = !random.Chance(0.2);
   settings.regularizationScale = random.Chance(0.2) ? 0.0 : settings.regularizationScale;
+  // The defaults remove slivers (σ = 10°); a quarter of the cases that did not draw σ run the paper's method, whose
+  // bounds are proven and checked in full (Lemma 2's edges among them).
+  if (random.Chance(0.25) && IsTheDefaultMinimumDihedralAngle(settings.minimumDihedralAngle))
+  {
+    settings.minimumDihedralAngle = 0.0;
+  }
 }
 
 RandomCase
@@ -624,6 +637,19 @@ MakeCase(Family family, uint64_t seed)
   randomCase.geometry = RandomGeometry(random);
   PaintContent(randomCase, random);
   ChooseParameters(randomCase, random);
+  return randomCase;
+}
+
+/** The case of `seed` as the regression tests recorded it, before sliver removal became the default (issue #15): a
+ * case that drew no σ of its own ran without it. */
+RandomCase
+MakeRecordedCase(Family family, uint64_t seed)
+{
+  RandomCase randomCase = MakeCase(family, seed);
+  if (IsTheDefaultMinimumDihedralAngle(randomCase.settings.minimumDihedralAngle))
+  {
+    randomCase.settings.minimumDihedralAngle = 0.0;
+  }
   return randomCase;
 }
 
@@ -765,6 +791,10 @@ struct FamilySummary
   std::vector<double> segmentationToMesh;
   /** A known defect, reported (see RandomizedKnownDefect): components a δ (not 2δ) across without a tetrahedron. */
   std::size_t lostComponentsAboutADeltaAcross{ 0 };
+  /** Meshes with σ > 0 and ρ >= 2 whose boundary has a vertex that is not a feature vertex (Lemma 5 is not promised
+   * there, CheckBoundaryGuarantees), and how many of them had a forced R4′ split. */
+  std::size_t meshesWithFreeBoundaryVertices{ 0 };
+  std::size_t meshesWithFreeBoundaryVerticesAndForcedSplits{ 0 };
 };
 
 /** "median / 95th percentile / 99th percentile / maximum" of some values. */
@@ -804,7 +834,10 @@ PrintSummary(std::ostream & stream, const std::string & title, const FamilySumma
          << DescribeDistribution(summary.meshToSegmentation)
          << "; thick parts' surface to boundary: " << DescribeDistribution(summary.segmentationToMesh) << "\n"
          << "    known defect: components a delta (not 2 delta) across without a tetrahedron "
-         << summary.lostComponentsAboutADeltaAcross << "\n";
+         << summary.lostComponentsAboutADeltaAcross << "\n"
+         << "    sigma > 0: meshes with a free vertex on a boundary (Lemma 5 not promised) "
+         << summary.meshesWithFreeBoundaryVertices << ", of them with a forced R4' split "
+         << summary.meshesWithFreeBoundaryVerticesAndForcedSplits << "\n";
   for (const auto & entry : summary.outcomes)
   {
     stream << "    " << std::setw(6) << entry.second << "  " << OutcomeName(entry.first) << "\n";
@@ -838,6 +871,8 @@ public:
         total.outcomes[outcome.first] += outcome.second;
       }
       total.lostComponentsAboutADeltaAcross += summary.lostComponentsAboutADeltaAcross;
+      total.meshesWithFreeBoundaryVertices += summary.meshesWithFreeBoundaryVertices;
+      total.meshesWithFreeBoundaryVerticesAndForcedSplits += summary.meshesWithFreeBoundaryVerticesAndForcedSplits;
       total.meshToSegmentation.insert(
         total.meshToSegmentation.end(), summary.meshToSegmentation.begin(), summary.meshToSegmentation.end());
       total.segmentationToMesh.insert(
@@ -927,6 +962,11 @@ TEST_P(RandomizedImages, MeshMeetsEveryGuaranteeOrFailsAsDocumented)
     summary.seconds += report.result.seconds;
     summary.largestMesh = std::max(summary.largestMesh, report.result.tetrahedra);
     summary.lostComponentsAboutADeltaAcross += report.result.lostComponentsAboutADeltaAcross;
+    if (randomCase.settings.minimumDihedralAngle > 0.0 && report.result.nonFeatureBoundaryCorners > 0)
+    {
+      ++summary.meshesWithFreeBoundaryVertices;
+      summary.meshesWithFreeBoundaryVerticesAndForcedSplits += report.result.sliverSplitsFailingAcceptance > 0;
+    }
     if (report.result.outcome == Outcome::Mesh)
     {
       if (report.result.meshToSegmentation >= 0.0)
@@ -1007,7 +1047,7 @@ struct RecordedCase
 void
 ExpectReplayPasses(const RecordedCase & recorded)
 {
-  RandomCase randomCase = MakeCase(recorded.family, recorded.seed);
+  RandomCase randomCase = MakeRecordedCase(recorded.family, recorded.seed);
   // Replayed as they were recorded, before the topology regularisation of issue #14 became the default: the
   // regressions they stand for were in the refinement's numerics, on these labels as they are.
   randomCase.settings.manifoldRefinementLevels = 3;
@@ -1045,7 +1085,7 @@ ExpectMeshedPassingEveryCheck(const std::vector<std::pair<Family, uint64_t>> & c
   std::vector<CaseReport> reports;
   for (const auto & [family, seed] : cases)
   {
-    const RandomCase randomCase = MakeCase(family, seed);
+    const RandomCase randomCase = MakeRecordedCase(family, seed);
     reports.push_back(RunCase(randomCase));
     const CaseReport & report = reports.back();
     EXPECT_EQ(report.result.outcome, Outcome::Mesh) << Describe(randomCase) << ": " << report.result.message;
@@ -1061,7 +1101,8 @@ ExpectMeshedWithoutFlatTetrahedra(const std::vector<std::pair<Family, uint64_t>>
   const std::vector<CaseReport> reports = ExpectMeshedPassingEveryCheck(cases);
   for (std::size_t index = 0; index < cases.size(); ++index)
   {
-    EXPECT_EQ(reports[index].result.flatTetrahedra, 0u) << Describe(MakeCase(cases[index].first, cases[index].second));
+    EXPECT_EQ(reports[index].result.flatTetrahedra, 0u)
+      << Describe(MakeRecordedCase(cases[index].first, cases[index].second));
   }
 }
 
@@ -1107,7 +1148,7 @@ TEST(RandomizedRegression, FlatTetrahedraNoMoveRemovesAreRemovedWithAnEdge)
  * found. */
 TEST(RandomizedRegression, RegularisedAwayIsJudgedOnTheSelectedLabels)
 {
-  const RandomCase randomCase = MakeCase(Family::Mixed, 8017397);
+  const RandomCase randomCase = MakeRecordedCase(Family::Mixed, 8017397);
   const CaseReport report = RunCase(randomCase);
   EXPECT_EQ(report.result.outcome, Outcome::RegularizedAway) << Describe(randomCase) << ": " << report.result.message;
   EXPECT_TRUE(report.problems.empty()) << Describe(randomCase) << ": " << report.problems.front();
@@ -1129,7 +1170,8 @@ TEST(RandomizedRegression, TheRelabellingGivesNoTissueAFlatTetrahedron)
  * (docs/algorithm.md, "Topology", step 3). It must mesh and pass every check of the suite, σ's among them. */
 TEST(RandomizedRegression, SliversLeftAsCapsAreNotStrandedByTheRelabelling)
 {
-  ASSERT_GT(MakeCase(Family::Mixed, 8000216).settings.minimumDihedralAngle, 15.0) << "the case is no longer the one";
+  ASSERT_GT(MakeRecordedCase(Family::Mixed, 8000216).settings.minimumDihedralAngle, 15.0)
+    << "the case is no longer the one";
   ExpectMeshedPassingEveryCheck({ { Family::Mixed, 8000216 } });
 }
 
@@ -1152,7 +1194,7 @@ TEST(RandomizedRegression, TheRelabellingLeavesNoRelabelledTetrahedronAlone)
  * keeps such components in general. */
 TEST(RandomizedKnownDefect, ComponentsADeltaAcrossCanBeLost)
 {
-  RandomCase randomCase = MakeCase(Family::Mixed, 8000038);
+  RandomCase randomCase = MakeRecordedCase(Family::Mixed, 8000038);
   randomCase.settings.relabelNonManifoldPlaces = false;
   const CaseReport report = RunCase(randomCase);
   ASSERT_EQ(report.result.outcome, Outcome::Mesh);
@@ -1171,11 +1213,12 @@ TEST(RandomizedKnownDefect, ComponentsADeltaAcrossCanBeLost)
  * cap (and Mixed 8011618, ρ = 1, σ = 19.3°, seeds 6,000-12,999; Mixed 8019154, ρ = 1, σ = 19.3°, δ = 1.07 mm,
  * seeds 19,000-19,399, found at c670540; Mixed 8020056, ρ = 1, σ = 17.0°, δ = 0.92 mm, seeds 19,800-20,199, found
  * at 87797bf; Mixed 8021071, ρ = 1, σ = 17.3°, δ = 1.98 mm, and 8021246, ρ = 1, σ = 18.9°, δ = 0.52 mm, seeds
- * 21,000-21,399, found at 11bc406); pinned with a cap of 5,000 vertices, 20 times what
- * an ending run needs. The error says that termination is proven for ρ >= 2 and σ = 0 only. */
+ * 21,000-21,399, found at 11bc406; and, with the default σ = 10° of issue #15, Blobs 1000030, ρ = 1, δ = 0.60 mm,
+ * which ends at its δ with 52,639 tetrahedra and reaches the cap at δ (1 + 1e-9)); pinned with a cap of 5,000 vertices,
+ * 20 times what an ending run needs. The error says that termination is proven for ρ >= 2 and σ = 0 only. */
 TEST(RandomizedKnownDefect, RhoOneWithSigmaNearTwentyCanRefineWithoutEnd)
 {
-  RandomCase randomCase = MakeCase(Family::Mixed, 8007944);
+  RandomCase randomCase = MakeRecordedCase(Family::Mixed, 8007944);
   ASSERT_EQ(randomCase.settings.radiusEdgeBound, 1.0) << "the case is no longer the one";
   ASSERT_GT(randomCase.settings.minimumDihedralAngle, 14.0) << "the case is no longer the one";
   randomCase.settings.maximumNumberOfVertices = 5000;
@@ -1193,7 +1236,7 @@ TEST(RandomizedKnownDefect, RhoOneWithSigmaNearTwentyCanRefineWithoutEnd)
  * (Refiner::PeelFlatCaps); the case must mesh and pass every check, σ among them. */
 TEST(RegressionSliverCaps, SliverThatCannotBePeeledIsSplit)
 {
-  const RandomCase randomCase = MakeCase(Family::Mixed, 8005805);
+  const RandomCase randomCase = MakeRecordedCase(Family::Mixed, 8005805);
   ASSERT_GT(randomCase.settings.minimumDihedralAngle, 5.0) << "the case is no longer the one";
   const CaseReport report = RunCase(randomCase);
   ASSERT_EQ(report.result.outcome, Outcome::Mesh);
@@ -1207,7 +1250,7 @@ TEST(RegressionSliverCaps, SliverThatCannotBePeeledIsSplit)
  * every check, the feature vertices' place on the surface among them. */
 TEST(RegressionLocalRegularization, FeatureVerticesStayOnTheRegularizedSurface)
 {
-  const CaseReport report = RunCase(MakeCase(Family::Blobs, 1000004));
+  const CaseReport report = RunCase(MakeRecordedCase(Family::Blobs, 1000004));
   ASSERT_EQ(report.result.outcome, Outcome::Mesh);
   EXPECT_TRUE(report.problems.empty()) << report.problems.front();
 }
@@ -1219,7 +1262,7 @@ TEST(RegressionLocalRegularization, FeatureVerticesStayOnTheRegularizedSurface)
  * (RandomizedStability). */
 TEST(RandomizedKnownDefect, OptInManifoldRefinementJumpsWithTheLastBitsOfDelta)
 {
-  RandomCase randomCase = MakeCase(Family::ManyLabels, 5000157);
+  RandomCase randomCase = MakeRecordedCase(Family::ManyLabels, 5000157);
   randomCase.settings.manifoldRefinementLevels = 3;
   randomCase.settings.regularizationScale = 0.0;
   randomCase.settings.topologyRegularizationRounds = 0;
@@ -1271,42 +1314,57 @@ DeltaPerturbations()
  * 11.8 % and the bound was 15 %. The bound keeps a margin over what is measured. */
 constexpr double LargestRelativeSizeChange = 0.08;
 
-void
-ExpectStableUnderDeltaPerturbations(RandomCase randomCase)
+/** The largest relative change of the mesh's points and tetrahedra over DeltaPerturbations(), with a failure for
+ * each one beyond `bound` when `expectWithin` (else the changes are only measured). */
+double
+LargestChangeUnderDeltaPerturbations(RandomCase randomCase, bool expectWithin, double bound)
 {
   const double delta = EffectiveDelta(randomCase);
   randomCase.settings.surfaceSamplingDistance = delta;
   const MeshSize reference = MeshSizeOf(randomCase);
-  ASSERT_EQ(reference.outcome, Outcome::Mesh) << Describe(randomCase);
+  EXPECT_EQ(reference.outcome, Outcome::Mesh) << Describe(randomCase);
   double largestChange = 0.0;
   for (const double perturbation : DeltaPerturbations())
   {
     randomCase.settings.surfaceSamplingDistance = delta * (1.0 + perturbation);
     const MeshSize perturbed = MeshSizeOf(randomCase);
-    ASSERT_EQ(perturbed.outcome, Outcome::Mesh) << Describe(randomCase);
+    EXPECT_EQ(perturbed.outcome, Outcome::Mesh) << Describe(randomCase);
     for (const auto & [name, before, after] :
          { std::make_tuple("points", reference.points, perturbed.points),
            std::make_tuple("tetrahedra", reference.tetrahedra, perturbed.tetrahedra) })
     {
       const double change = std::abs(static_cast<double>(after) - static_cast<double>(before)) / before;
       largestChange = std::max(largestChange, change);
-      EXPECT_LE(change, LargestRelativeSizeChange) << Describe(randomCase) << ": delta x (1 + " << perturbation
-                                                   << ") gives " << after << " " << name << " instead of " << before;
+      if (expectWithin)
+      {
+        EXPECT_LE(change, bound) << Describe(randomCase) << ": delta x (1 + " << perturbation << ") gives " << after
+                                 << " " << name << " instead of " << before;
+      }
     }
   }
-  std::cout << FamilyName(randomCase.family) << " seed " << randomCase.seed << ": " << reference.tetrahedra
+  std::cout << FamilyName(randomCase.family) << " seed " << randomCase.seed << " (sigma "
+            << randomCase.settings.minimumDihedralAngle << "): " << reference.tetrahedra
             << " tetrahedra, largest relative change of the counts under the perturbations of delta " << largestChange
             << "\n";
+  return largestChange;
+}
+
+void
+ExpectStableUnderDeltaPerturbations(const RandomCase & randomCase)
+{
+  LargestChangeUnderDeltaPerturbations(randomCase, true, LargestRelativeSizeChange);
 }
 
 TEST(RandomizedStability, RecordedCaseChangesByAFewPerCentAtMost)
 {
-  ExpectStableUnderDeltaPerturbations(MakeCase(Family::ManyLabels, 5000157));
+  ExpectStableUnderDeltaPerturbations(MakeRecordedCase(Family::ManyLabels, 5000157));
 }
 
-/** The first meshes of every family's seeds that hold at least a thousand tetrahedra at their δ (on a smaller mesh a
- * few per cent is a few elements, which any change of the cascade moves; the single voxels make none that large). */
-TEST(RandomizedStability, FirstMeshesOfEveryFamilyChangeByAFewPerCentAtMost)
+/** Holds the first meshes of every family's seeds that hold at least a thousand tetrahedra at their δ (on a smaller
+ * mesh a few per cent is a few elements, which any change of the cascade moves; the single voxels make none that
+ * large), each case as `makeCase` makes it, to `bound`. */
+void
+ExpectFirstMeshesOfEveryFamilyStable(RandomCase (*makeCase)(Family, uint64_t), double bound)
 {
   // Runs with fewer cases per family (the sanitizers' 100) take one mesh per family.
   const std::size_t     meshesPerFamily = CasesPerFamily(300) < 300 ? 1 : 2;
@@ -1324,7 +1382,7 @@ TEST(RandomizedStability, FirstMeshesOfEveryFamilyChangeByAFewPerCentAtMost)
     std::size_t    found = 0;
     for (uint64_t seed = firstSeed; found < meshesPerFamily && seed < firstSeed + 100; ++seed)
     {
-      const RandomCase randomCase = MakeCase(family, seed);
+      const RandomCase randomCase = makeCase(family, seed);
       if (randomCase.settings.maximumNumberOfVertices < FilterSettings{}.maximumNumberOfVertices)
       {
         continue;
@@ -1335,10 +1393,28 @@ TEST(RandomizedStability, FirstMeshesOfEveryFamilyChangeByAFewPerCentAtMost)
         continue;
       }
       ++found;
-      ExpectStableUnderDeltaPerturbations(randomCase);
+      LargestChangeUnderDeltaPerturbations(randomCase, true, bound);
     }
     EXPECT_EQ(found, meshesPerFamily) << FamilyName(family);
   }
+}
+
+/** As recorded: with the paper's method (σ = 0) unless the case drew a σ, where the bound was measured. */
+TEST(RandomizedStability, FirstMeshesOfEveryFamilyChangeByAFewPerCentAtMost)
+{
+  ExpectFirstMeshesOfEveryFamilyStable(MakeRecordedCase, LargestRelativeSizeChange);
+}
+
+/** Sliver removal (σ = 10°, the default since issue #15) makes more choices that a tie decides (which candidate point,
+ * which corner moves), and moves these small meshes more: measured when it became the default, 8.7 % at most
+ * (ManyLabels 5000016: 1,265 tetrahedra; BorderTouching 6000018 8.1 %, the others 1.7-3.9 %), against 6.5 % and 5.2 %
+ * for those two with σ = 0. The bound keeps a margin over what was measured; the real images move by under 2 % with
+ * the defaults (itkDelaunayImageToMeshFilterGTest, "TheDefaultsFollowDeltaNotItsLastBits"). */
+constexpr double LargestRelativeSizeChangeWithSliverRemoval = 0.12;
+
+TEST(RandomizedStability, FirstMeshesOfEveryFamilyWithTheDefaultsChangeByAFewPerCentAtMost)
+{
+  ExpectFirstMeshesOfEveryFamilyStable(MakeCase, LargestRelativeSizeChangeWithSliverRemoval);
 }
 
 } // namespace

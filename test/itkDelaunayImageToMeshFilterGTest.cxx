@@ -122,10 +122,9 @@ ExpectDihedralAnglesReachSigma(const Meshed<TFilter> & meshed)
  * radius-edge < ρ, boundary planar angles > 30°, Lemma 2's shortest edges, every boundary triangle inside
  * its surface ball (radius < δ by R3, so circumradius < δ), with ρ >= 2 only feature vertices on the
  * boundary (Lemma 5, where δ is uniform), and a boundary that is exactly the facets between different labels.
- * With σ > 0, R4′ inserts free points that may come closer than δ to others, so Lemma 2's edges are
- * not asserted; dihedral angles >= σ are, with every other bound; and Lemma 5 is asserted unless R4′ had to split a
- * sliver at a point that failed its acceptance test (RefinementStatistics::sliverSplitsFailingAcceptance), the one
- * step that may put a free vertex on a boundary (docs/algorithm.md, "R4′ picks its point"). */
+ * With σ > 0 (the default), R4′ inserts free points that may come closer than δ to others, so Lemma 2's edges are
+ * not asserted, nor Lemma 5, which rests on them (a free vertex may reach a boundary, still a corner of triangles
+ * inside their surface balls: docs/algorithm.md, "Guarantees"); dihedral angles >= σ are, with every other bound. */
 template <typename TFilter>
 void
 ExpectGuarantees(const Meshed<TFilter> & meshed)
@@ -169,11 +168,11 @@ ExpectGuarantees(const Meshed<TFilter> & meshed)
     backgroundTetrahedra += label == dr::BackgroundLabel;
   }
   EXPECT_EQ(backgroundTetrahedra, 0u);
-  // Lemma 5 needs a uniform δ (a free vertex's edges >= 2δ put any facet through it above R3's threshold);
-  // where the manifold refinement made δ smaller locally, its transition may leave a free vertex on the
-  // boundary, so the lemma is checked where its hypothesis holds.
+  // Lemma 5 needs Lemma 2 and a uniform δ (a free vertex's edges >= 2δ put any facet through it above R3's
+  // threshold); where the manifold refinement made δ smaller locally, its transition may leave a free vertex on the
+  // boundary, and so may R4′ (σ > 0), so the lemma is checked where its hypotheses hold.
   const bool uniformDelta = statistics.manifoldRefinementZones == 0;
-  if (rho >= 2.0 && uniformDelta && statistics.sliverSplitsFailingAcceptance == 0)
+  if (rho >= 2.0 && uniformDelta && !(sigma > 0.0))
   {
     std::size_t nonFeatureCorners = 0;
     for (const auto & triangle : meshed.mesh.boundaryTriangles)
@@ -356,15 +355,27 @@ DistanceToSphere(const dr::Vector3 & point, const dr::Vector3 & center, double r
   return std::abs(dr::Distance(point, center) - radius);
 }
 
-double
-LargestBoundaryVertexOffset(const dr::TetrahedralMesh & mesh, const dr::Vector3 & center, double radius)
+/** The largest distance to the sphere of the boundary's feature vertices, and of its other vertices (counted, with
+ * multiplicity). */
+struct BoundaryVertexOffsets
 {
-  double largest = 0.0;
+  double      feature{ 0.0 };
+  double      other{ 0.0 };
+  std::size_t others{ 0 };
+};
+
+BoundaryVertexOffsets
+LargestBoundaryVertexOffsets(const dr::TetrahedralMesh & mesh, const dr::Vector3 & center, double radius)
+{
+  BoundaryVertexOffsets largest;
   for (const auto & triangle : mesh.boundaryTriangles)
   {
     for (const uint32_t vertex : triangle)
     {
-      largest = std::max(largest, DistanceToSphere(mesh.points[vertex], center, radius));
+      const bool isFeature = mesh.pointKinds.at(vertex) == dr::VertexKind::Feature;
+      largest.others += !isFeature;
+      double & offset = isFeature ? largest.feature : largest.other;
+      offset = std::max(offset, DistanceToSphere(mesh.points[vertex], center, radius));
     }
   }
   return largest;
@@ -388,7 +399,7 @@ SphereSamples(const dr::Vector3 & center, double radius, std::size_t count)
 
 struct SphereFidelity
 {
-  double largestVertexOffset{ 0.0 };
+  BoundaryVertexOffsets largestVertexOffsets;
   /** Samples of the boundary triangles (every δ/10) to the sphere. */
   dr::DistanceStatistics meshToSphere;
   /** 20,000 sphere samples to the boundary triangles. */
@@ -400,7 +411,7 @@ MeasureAgainstSphere(const dr::TetrahedralMesh & mesh, const dr::Vector3 & cente
 {
   SphereFidelity      fidelity;
   std::vector<double> distances;
-  fidelity.largestVertexOffset = LargestBoundaryVertexOffset(mesh, center, radius);
+  fidelity.largestVertexOffsets = LargestBoundaryVertexOffsets(mesh, center, radius);
   for (const dr::Vector3 & sample : dr::SampleTriangles(mesh.points, mesh.boundaryTriangles, delta / 10.0))
   {
     distances.push_back(DistanceToSphere(sample, center, radius));
@@ -416,23 +427,31 @@ MeasureAgainstSphere(const dr::TetrahedralMesh & mesh, const dr::Vector3 & cente
   return fidelity;
 }
 
-/** The analytic-sphere checks shared by the label and gray-value tests: boundary vertices within
+/** The analytic-sphere checks shared by the label and gray-value tests: boundary feature vertices within
  * `vertexOffsetBound` of the sphere, the two-sided sampled distance within the chordal bound, and a closed
- * genus-0 surface of one component. */
+ * genus-0 surface of one component. Other vertices reach the boundary only with σ > 0 (Lemma 5, which
+ * ExpectGuarantees asserts with σ = 0): such a vertex is a corner of boundary triangles that lie in their surface
+ * balls, of radius < δ around a point of the oracle's surface, so it is within δ + `vertexOffsetBound` of the
+ * sphere, and where the mesh has one the chordal bound is taken with that offset. */
 template <typename TFilter>
 void
 ExpectFaithfulSphere(const Meshed<TFilter> & meshed, const dr::Vector3 & center, double radius,
                      double vertexOffsetBound)
 {
   const double         delta = meshed.filter->GetEffectiveSurfaceSamplingDistance();
-  const double         bound = ChordalDistanceBound(radius, vertexOffsetBound, delta);
   const SphereFidelity fidelity = MeasureAgainstSphere(meshed.mesh, center, radius, delta);
+  const bool           freeVertexMayBeOnTheBoundary = meshed.filter->GetMinimumDihedralAngle() > 0.0;
+  const double         offsetBound = freeVertexMayBeOnTheBoundary ? delta + vertexOffsetBound : vertexOffsetBound;
+  const double         bound =
+    ChordalDistanceBound(radius, fidelity.largestVertexOffsets.others > 0 ? offsetBound : vertexOffsetBound, delta);
   std::cout << "sphere r=" << radius << " delta=" << delta << ": " << meshed.mesh.tetrahedra.size()
-            << " tetrahedra, largest vertex offset " << fidelity.largestVertexOffset << " (bound " << vertexOffsetBound
-            << "), mesh->sphere mean " << fidelity.meshToSphere.mean << " max " << fidelity.meshToSphere.maximum
+            << " tetrahedra, largest vertex offset " << fidelity.largestVertexOffsets.feature << " (bound "
+            << vertexOffsetBound << "), of other boundary vertices " << fidelity.largestVertexOffsets.other
+            << ", mesh->sphere mean " << fidelity.meshToSphere.mean << " max " << fidelity.meshToSphere.maximum
             << ", sphere->mesh mean " << fidelity.sphereToMesh.mean << " max " << fidelity.sphereToMesh.maximum
             << " (bound " << bound << ")\n";
-  EXPECT_LE(fidelity.largestVertexOffset, vertexOffsetBound);
+  EXPECT_LE(fidelity.largestVertexOffsets.feature, vertexOffsetBound);
+  EXPECT_LE(fidelity.largestVertexOffsets.other, offsetBound);
   EXPECT_LE(fidelity.meshToSphere.maximum, bound);
   EXPECT_LE(fidelity.sphereToMesh.maximum, bound);
   ExpectClosedManifoldBoundary(meshed);
@@ -655,11 +674,12 @@ TEST_P(BrainMask, GuaranteesHold)
   ExpectGuarantees(MeshedBrainMask(GetParam()));
 }
 
-// With sliver removal (σ = 10°), the bound each tetrahedron gets and every other bound, on the same image.
-TEST_P(BrainMask, GuaranteesHoldWithSliverRemoval)
+// The defaults remove slivers (σ = 10°), which gives up Lemma 2's edges; the paper's method, whose bounds are
+// proven, is held to all of them on the same image.
+TEST_P(BrainMask, ProvenGuaranteesHoldWithoutSliverRemoval)
 {
   const auto filter = FilterFor(BrainMaskImage(), GetParam());
-  filter->SetMinimumDihedralAngle(10.0);
+  filter->SetMinimumDihedralAngle(0.0);
   ExpectGuarantees(*RunFilter<FilterType>(filter));
 }
 
@@ -699,11 +719,32 @@ INSTANTIATE_TEST_SUITE_P(Delta, BrainMask, testing::Values(2.0, 3.0, 4.0, 6.0),
                            return "delta" + std::to_string(static_cast<int>(info.param)) + "mm";
                          });
 
+/** The defaults' mesh must follow δ, not its last bits (a tie that falls the other way moves the cascade of the
+ * refinement, and sliver removal adds choices that ties decide). Measured when σ = 10° became the default: the brain
+ * mask at 2 mm moves by 1.9 % at most over these perturbations, the atlas phantom at 1 mm by 1.7 %, the k-means
+ * tissues at 4 mm by 0.4 %; the random families' small meshes move more (the randomized suite's stability tests).
+ * The bound keeps a margin over what was measured. */
+TEST(BrainMask, TheDefaultsFollowDeltaNotItsLastBits)
+{
+  constexpr double delta = 2.0;
+  constexpr double largestRelativeChange = 0.04;
+  const double     reference = static_cast<double>(MeshedBrainMask(delta).mesh.tetrahedra.size());
+  for (const double perturbation : { 1e-12, -1e-12, 1e-9, -1e-9, 1e-6 })
+  {
+    const auto   meshed = RunFilter<FilterType>(FilterFor(BrainMaskImage(), delta * (1.0 + perturbation)));
+    const double tetrahedra = static_cast<double>(meshed->mesh.tetrahedra.size());
+    std::cout << "delta " << delta << " x (1 + " << perturbation << "): " << tetrahedra << " tetrahedra, " << reference
+              << " at delta\n";
+    EXPECT_LE(std::abs(tetrahedra - reference) / reference, largestRelativeChange) << "perturbation " << perturbation;
+  }
+}
+
 TEST(BrainMaskReport, Table)
 {
   std::cout << std::fixed << std::setprecision(3);
   std::cout
-    << "\nBrain mask (KmeansTest_T1RawSkullStrip, non-zero = object), rho = 2, sigma = 0:\n"
+    << "\nBrain mask (KmeansTest_T1RawSkullStrip, non-zero = object), the defaults (rho = 2, sigma = "
+    << dr::RefinementParameters{}.minimumDihedralAngle << " deg):\n"
     << "| delta (mm) | tetrahedra | boundary triangles | seconds | max radius-edge | min boundary planar angle | "
        "min dihedral | MC distance mean (mm) | MC distance max (mm) | components | genus | non-manifold "
        "edges/vertices |\n";
@@ -882,6 +923,15 @@ MeshedKmeans()
 TEST(KmeansTissues, GuaranteesHold)
 {
   ExpectGuarantees(MeshedKmeans());
+}
+
+TEST(KmeansTissues, ProvenGuaranteesHoldWithoutSliverRemoval)
+{
+  static const LabelImageType::Pointer image = ReadExampleImage("KmeansTest_T1KmeansPrelimSegmentation.nii.gz");
+  const auto                           filter = FilterFor(image.GetPointer(), KmeansDelta);
+  filter->SetLabels(KmeansTissues);
+  filter->SetMinimumDihedralAngle(0.0);
+  ExpectGuarantees(*RunFilter<FilterType>(filter));
 }
 
 TEST(KmeansTissues, InterfaceTrianglesSeparateTwoDifferentLabels)
@@ -1191,10 +1241,11 @@ TEST(LatticeDelta, FlatSquaresKeepLemma2ButAtTheListedPoints)
   EXPECT_LE(meshed->filter->GetRefinementStatistics().flatTetrahedraMovedBelowSpacing, 2u);
 }
 
-// The same flat squares with sliver removal, where R4′ removes the slivers as well.
-TEST(LatticeDelta, FlatTetrahedraAndSliversAreRemovedWithSliverRemoval)
+// The same flat squares with the defaults, where R4′ removes the slivers as well.
+TEST(LatticeDelta, FlatTetrahedraAndSliversAreRemovedWithTheDefaults)
 {
-  const auto meshed = MeshedAtLatticeDelta("AtlasPhantomCropWithFlatSquares.nrrd", 10.0);
+  const auto meshed =
+    MeshedAtLatticeDelta("AtlasPhantomCropWithFlatSquares.nrrd", dr::RefinementParameters{}.minimumDihedralAngle);
   ExpectLatticeDeltaGuarantees(*meshed, 9);
 }
 

@@ -54,7 +54,7 @@ ExerciseDefaultsAndSetGet(FilterType * filter)
   ITK_TEST_EXPECT_EQUAL(filter->GetSurfaceSamplingDistance(), 0.0);
   ITK_TEST_EXPECT_EQUAL(filter->GetEffectiveSurfaceSamplingDistance(), 0.0);
   ITK_TEST_EXPECT_EQUAL(filter->GetRadiusEdgeBound(), 2.0);
-  ITK_TEST_EXPECT_EQUAL(filter->GetMinimumDihedralAngle(), 0.0);
+  ITK_TEST_EXPECT_EQUAL(filter->GetMinimumDihedralAngle(), 10.0);
   ITK_TEST_EXPECT_EQUAL(filter->GetMaximumNumberOfVertices(), itk::SizeValueType{ 10000000 });
   ITK_TEST_SET_GET_NULL_VALUE(filter->GetInterpolator());
   ITK_TEST_EXPECT_EQUAL(filter->GetIsoValue(), 0.0);
