@@ -102,20 +102,14 @@ public:
    * built on it (Voronoi edges, surface balls, labels) goes wrong. A centre whose corners are not equidistant
    * is recomputed exactly, and so is the centre of a nearly flat tetrahedron: there every point of a whole line
    * is nearly equidistant from the corners, so equidistance cannot vouch for the centre (the fuzzer found an R3
-   * surface ball, on a Voronoi edge ending at such a centre, that held a feature vertex 0.88 δ from its centre).
-   * The construction is made on the corners in lexicographic order, so that its last bits do not depend on the
-   * order in which CGAL lists a cell's vertices, nor on who computes it: SliverSplit predicts the labels of the
-   * tetrahedra a point would create from their corners (CircumcenterOfCorners), and a circumcentre on a voxel face,
-   * where voxel-derived points put many, had one label from one order and another from the other (the randomized
-   * suite, ManyLabels 5022131: an accepted R4′ point that was to change no boundary became a free boundary vertex). */
+   * surface ball, on a Voronoi edge ending at such a centre, that held a feature vertex 0.88 δ from its centre). */
   Vector3
-  CircumcenterOfCorners(std::array<Vector3, 4> corners) const
+  CircumcenterOf(CellHandle cell, const std::array<Vector3, 4> & corners) const
   {
-    std::sort(corners.begin(), corners.end());
-    const CgalPoint p = ToCgal(corners[0]);
-    const CgalPoint q = ToCgal(corners[1]);
-    const CgalPoint r = ToCgal(corners[2]);
-    const CgalPoint s = ToCgal(corners[3]);
+    const CgalPoint & p = cell->vertex(0)->point();
+    const CgalPoint & q = cell->vertex(1)->point();
+    const CgalPoint & r = cell->vertex(2)->point();
+    const CgalPoint & s = cell->vertex(3)->point();
     if (IsNearlyFlat(corners))
     {
       return ToVector(m_Circumcenter(p, q, r, s, true));
@@ -163,7 +157,7 @@ public:
   {
     CellCache &                  cache = cell->cache;
     const std::array<Vector3, 4> corners = CornersOf(cell);
-    cache.circumcenter = CircumcenterOfCorners(corners);
+    cache.circumcenter = CircumcenterOf(cell, corners);
     cache.squaredRadius = SquaredNorm(cache.circumcenter - corners[0]);
     cache.label = m_Oracle.LabelAt(cache.circumcenter);
     cache.surfaceDistance = CellCache::NotYetComputed;

@@ -419,7 +419,7 @@ private:
     m_NewLabels.clear();
     for (const std::array<Vector3, 4> & corners : m_NewTetrahedra)
     {
-      m_NewLabels.push_back(m_Oracle.LabelAt(m_State.CircumcenterOfCorners(corners)));
+      m_NewLabels.push_back(m_Oracle.LabelAt(TetrahedronCircumcenter(corners)));
     }
     result.split.changesBoundary = ChangesBoundary(sliver->cache.label);
     result.split.accepted = !result.split.changesBoundary || NewBoundaryTrianglesAreGood(point, kind);
