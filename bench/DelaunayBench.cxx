@@ -289,7 +289,8 @@ RunCase(const BenchImage & benchImage, double delta, const Options & options, co
   BenchCase          result;
   result.image = benchImage.name;
   result.delta = delta;
-  MesherRuns ours("ours", [&] { return RunOurFilter(image, delta, 0.0); });
+  // The filter's defaults (sliver removal at σ = 10° since issue #15), as a user gets them.
+  MesherRuns ours("ours", [&] { return RunOurFilter(image, delta, dr::RefinementParameters{}.minimumDihedralAngle); });
   if (options.oursOnly)
   {
     for (int i = 0; i < options.runs; ++i)
