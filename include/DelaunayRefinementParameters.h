@@ -38,10 +38,10 @@ struct RefinementParameters
    * at 10°, the largest angle that keeps the mesh within 1.3 × the tetrahedra and 1.5 × the time of σ = 0 on every
    * bench image and δ (issue #15; measured paired: 10° costs 0.98-1.18 × the tetrahedra and 1.02-1.32 × the time;
    * 12° reached 1.45-1.48 × the time on the k-means tissues and the atlas phantom, 15° 1.6-2.0 ×): a finite-element
-   * user should not have to know about slivers. With σ > 0 every sliver found is split at a point chosen to keep the boundary's bounds,
-   * peeled off the background, or removed by moving a corner (docs/algorithm.md, "R4′ picks its point", "R4′ moves
-   * a vertex"). As in the paper, nothing is proven: termination rests on maximumNumberOfVertices, Lemma 2's
-   * spacing is given up and Lemma 5 with it: where none of these steps keeps the bounds (a sliver whose
+   * user should not have to know about slivers. With σ > 0 every sliver found is split at a point chosen to keep the
+   * boundary's bounds, peeled off the background, or removed by moving a corner (docs/algorithm.md, "R4′ picks its
+   * point", "R4′ moves a vertex"). As in the paper, nothing is proven: termination rests on maximumNumberOfVertices,
+   * Lemma 2's spacing is given up and Lemma 5 with it: where none of these steps keeps the bounds (a sliver whose
    * circumcentre is within δ of the surface) the sliver is split anyway, and free vertices can reach a boundary,
    * within δ of the surface (docs/algorithm.md, "Guarantees"; RefinementStatistics::sliverSplitsFailingAcceptance
    * counts those splits). Measured on the bench's images and on the randomized suite's: dihedral angles >= σ,
