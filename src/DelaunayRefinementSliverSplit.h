@@ -342,7 +342,7 @@ private:
     }
     if (!best.split.accepted)
     {
-      ConsiderSurfacePointsNearTheFreeCandidates(center, radius, consider);
+      ConsiderSurfacePointsNearTheFreeCandidates(center, radius, onSurface, consider);
     }
     return best;
   }
@@ -350,20 +350,29 @@ private:
   /** For a sliver none of whose candidates passed the acceptance test: the surface points closest to its free
    * candidates, in their order, each within ProjectedPickingRadius of the circumcentre, until one passes. Most such
    * slivers lie within δ of the surface with every corner on it, and every free point near their circumcentre puts
-   * a free vertex on a boundary; the surface point beside it may not. Each distinct point is considered once. */
+   * a free vertex on a boundary; the surface point beside it may not. Each distinct point is considered once:
+   * `nearestToCenter`, the circumcentre's own (the first free candidate's), is not asked for again, nor evaluated
+   * again when BestCandidate already did. */
   template <typename TConsider>
   void
-  ConsiderSurfacePointsNearTheFreeCandidates(const Vector3 & center, double radius, TConsider & consider) const
+  ConsiderSurfacePointsNearTheFreeCandidates(const Vector3 & center, double radius,
+                                             const SurfacePoint & nearestToCenter, TConsider & consider) const
   {
     std::vector<Vector3> considered;
-    const std::size_t    candidates = m_Evaluated.size();
+    if (nearestToCenter.distance <= SurfacePickingRadius * radius)
+    {
+      considered.push_back(nearestToCenter.point);
+    }
+    const std::size_t candidates = m_Evaluated.size();
     for (std::size_t index = 0; index < candidates; ++index)
     {
-      if (m_Evaluated[index].ranked.split.kind != VertexKind::Free)
+      const Split & candidate = m_Evaluated[index].ranked.split;
+      if (candidate.kind != VertexKind::Free)
       {
         continue;
       }
-      const Vector3 point = m_Oracle.ClosestSurfacePoint(m_Evaluated[index].ranked.split.point).point;
+      const Vector3 point =
+        candidate.point == center ? nearestToCenter.point : m_Oracle.ClosestSurfacePoint(candidate.point).point;
       if (!(Distance(point, center) <= ProjectedPickingRadius * radius) ||
           std::find(considered.begin(), considered.end(), point) != considered.end())
       {
