@@ -75,8 +75,9 @@ public:
     , m_State(oracle, parameters)
     , m_Sizing(parameters.surfaceSamplingDistance)
     , m_BoxProtection(m_State, parameters.surfaceSamplingDistance, m_Statistics)
-    , m_SliverSplit(oracle, m_State, m_BoxProtection, parameters.radiusEdgeBound, parameters.minimumDihedralAngle)
     , m_Rules(oracle, parameters, m_State, m_Sizing, m_BoxProtection.Box())
+    , m_SliverSplit(oracle, m_State, m_BoxProtection, m_Rules, parameters.radiusEdgeBound,
+                    parameters.minimumDihedralAngle)
     , m_Extraction(m_State)
     , m_Repair(m_State, m_Extraction, m_Sizing, parameters)
   {
@@ -161,7 +162,11 @@ private:
   /** R4': the point SliverSplit chooses, free or on the surface. A sliver for which no point passes its acceptance
    * test is left for FlatCaps to peel off when it is a cap on the background, unless that step could not peel it
    * before (PeelFlatCaps); otherwise one of its corners is moved
-   * (SliverPerturbation); when no move passes either, it is split at the least bad point. A tetrahedron that is
+   * (SliverPerturbation); when no move passes either, it is split at the least bad point. An accepted point that R3
+   * would split again (a boundary triangle at its new tetrahedra gets a surface ball reaching δ) also tries the
+   * moves first, since a move is kept only when no rule but R4′ applies to its tetrahedra: the split and R3's
+   * insertion after it, with the deletions around that, made many of σ = 15°'s tetrahedra (docs/algorithm.md,
+   * "R4′ moves a vertex"). A tetrahedron that is
    * only flat to rounding (its angles reach σ, or σ = 0) is never split, since a split point would come closer
    * than δ to its corners (Lemma 2): a corner is moved, or it is left. */
   bool
@@ -184,7 +189,7 @@ private:
     // sliver a new cell. Undoing restores the triangulation exactly (MeshState::MoveVertex), so the split chosen
     // before is still the one Choose would choose, and it is made now instead of choosing it again.
     CellHandle hint = cell;
-    if (!split.accepted)
+    if (!split.accepted || split.splitByR3)
     {
       switch (Perturb(cell))
       {
@@ -623,8 +628,8 @@ private:
   MeshState                    m_State;
   LocalSampling                m_Sizing;
   BoxProtection                m_BoxProtection;
-  SliverSplit                  m_SliverSplit;
   RefinementRules              m_Rules;
+  SliverSplit                  m_SliverSplit;
   DihedralAngleBound           m_DihedralBound{ m_Parameters.minimumDihedralAngle };
   SliverPerturbation m_SliverPerturbation{ m_Oracle, m_Parameters, m_State, m_Rules, m_Sizing, m_BoxProtection };
   MeshExtraction     m_Extraction;

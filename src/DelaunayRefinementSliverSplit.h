@@ -29,6 +29,7 @@
 #include "DelaunayRefinementBoxProtection.h"
 #include "DelaunayRefinementGeometry.h"
 #include "DelaunayRefinementMeshState.h"
+#include "DelaunayRefinementRules.h"
 #include "DelaunayRefinementVertexLinks.h"
 
 #include <algorithm>
@@ -76,13 +77,17 @@ public:
     bool changesBoundary;
     /** Whether the point passed the acceptance test (else it is the least bad one, see Choose). */
     bool accepted;
+    /** Whether R3 will split a boundary triangle at the point's new tetrahedra, for an accepted point
+     * (WillBeSplitByR3). */
+    bool splitByR3{ false };
   };
 
-  SliverSplit(const LabelOracle & oracle, const MeshState & state, const BoxProtection & box, double radiusEdgeBound,
-              double minimumDihedralAngle)
+  SliverSplit(const LabelOracle & oracle, const MeshState & state, const BoxProtection & box,
+              const RefinementRules & rules, double radiusEdgeBound, double minimumDihedralAngle)
     : m_Oracle(oracle)
     , m_State(state)
     , m_Box(box)
+    , m_Rules(rules)
     , m_RadiusEdgeBound(radiusEdgeBound)
     , m_DihedralBound(minimumDihedralAngle)
   {}
@@ -99,9 +104,20 @@ public:
    * angle; the search ends at the first that leaves the boundary and reaches σ. With no accepted candidate, the best
    * one whose only fault is a free vertex on a boundary or a triangle there below 30°, else the circumcentre: the
    * sliver is split whatever it costs (docs/algorithm.md, "R4′ picks its point"). Deterministic: fixed candidates in a
-   * fixed order, the first best wins. */
+   * fixed order, the first best wins. An accepted point also says whether R3 will split a boundary triangle at its new
+   * tetrahedra (Split::splitByR3), for the refiner, which then tries to move a corner first. */
   Split
   Choose(CellHandle cell, const Vector3 & center, double squaredRadius) const
+  {
+    Split split = ChooseAmongCandidates(cell, center, squaredRadius);
+    split.splitByR3 = split.accepted && WillBeSplitByR3(split, cell);
+    return split;
+  }
+
+private:
+  /** See Choose. */
+  Split
+  ChooseAmongCandidates(CellHandle cell, const Vector3 & center, double squaredRadius) const
   {
     const double radius = std::sqrt(squaredRadius);
     const Ranked best = BestCandidate(cell, center, radius);
@@ -126,7 +142,6 @@ public:
     return keepingTopology.fault <= best.fault ? keepingTopology.split : best.split;
   }
 
-private:
   /** Why a candidate fails the acceptance test, from the mildest. */
   enum class Fault
   {
@@ -426,9 +441,11 @@ private:
     result.fault = Fault::Boundary;
     evaluated.labelled = true;
     m_NewLabels.clear();
+    m_NewCenters.clear();
     for (const std::array<Vector3, 4> & corners : m_NewTetrahedra)
     {
-      m_NewLabels.push_back(m_Oracle.LabelAt(TetrahedronCircumcenter(corners)));
+      m_NewCenters.push_back(TetrahedronCircumcenter(corners));
+      m_NewLabels.push_back(m_Oracle.LabelAt(m_NewCenters.back()));
     }
     result.split.changesBoundary = ChangesBoundary(sliver->cache.label);
     result.split.accepted = !result.split.changesBoundary || NewBoundaryTrianglesAreGood(point, kind);
@@ -546,6 +563,54 @@ private:
       }
     }
     return true;
+  }
+
+  /** Whether R3 will split a boundary triangle at the tetrahedra that inserting `split` (a point Evaluate found
+   * insertable) creates: one whose surface ball, centred where its dual Voronoi edge crosses the surface, reaches
+   * R3's threshold (RefinementRules::SurfaceBallThreshold). The insertion moves the ends of those edges, so the
+   * triangles it leaves on a boundary change their surface balls too, not only those it puts there. The point's
+   * conflict region is searched again, since the ranking may have evaluated other candidates after it. */
+  bool
+  WillBeSplitByR3(const Split & split, CellHandle sliver) const
+  {
+    Evaluate(split.point, split.kind, sliver, Ranked());
+    const Triangulation & triangulation = m_State.GetTriangulation();
+    const auto            reaches =
+      [this](const Vector3 & center, const Vector3 & otherCenter, const std::array<Vector3, 3> & corners) {
+        const Vector3 ballCenter = m_Oracle.SurfaceCrossing(center, otherCenter);
+        const double  threshold = m_Rules.SurfaceBallThreshold(ballCenter, corners[0], corners[1], corners[2]);
+        return SquaredNorm(ballCenter - corners[0]) >= threshold * threshold;
+      };
+    for (std::size_t index = 0; index < m_BoundaryFacets.size(); ++index)
+    {
+      const auto & [cell, opposite] = m_BoundaryFacets[index];
+      const CellHandle outside = cell->neighbor(opposite);
+      if (m_NewLabels[index] == m_State.LabelBeyondFacet(cell, opposite) || triangulation.is_infinite(outside))
+      {
+        continue;
+      }
+      const std::array<VertexHandle, 3> corners = CornersOfBoundaryFacet(index);
+      if (reaches(m_NewCenters[index],
+                  outside->cache.circumcenter,
+                  { m_State.PointOf(corners[0]), m_State.PointOf(corners[1]), m_State.PointOf(corners[2]) }))
+      {
+        return true;
+      }
+    }
+    FindEdgesOfBoundaryFacets();
+    for (std::size_t index = 0; index + 1 < m_Edges.size(); index += 2)
+    {
+      const EdgeOfFacet & edge = m_Edges[index];
+      const EdgeOfFacet & twin = m_Edges[index + 1];
+      if (m_NewLabels[edge.facet] != m_NewLabels[twin.facet] &&
+          reaches(m_NewCenters[edge.facet],
+                  m_NewCenters[twin.facet],
+                  { m_State.PointOf(edge.a), m_State.PointOf(edge.b), split.point }))
+      {
+        return true;
+      }
+    }
+    return false;
   }
 
   std::array<VertexHandle, 3>
@@ -830,12 +895,15 @@ private:
   const LabelOracle &                         m_Oracle;
   const MeshState &                           m_State;
   const BoxProtection &                       m_Box;
+  const RefinementRules &                     m_Rules;
   double                                      m_RadiusEdgeBound;
   DihedralAngleBound                          m_DihedralBound;
   mutable std::vector<Triangulation::Facet>   m_BoundaryFacets;
   mutable std::vector<CellHandle>             m_ConflictCells;
   mutable std::vector<std::array<Vector3, 4>> m_NewTetrahedra;
   mutable std::vector<Label>                  m_NewLabels;
+  /** The circumcentres of m_NewTetrahedra, where m_NewLabels were asked for. */
+  mutable std::vector<Vector3> m_NewCenters;
   /** The first pass's candidates (BestCandidate). */
   mutable std::vector<Evaluated>   m_Evaluated;
   mutable std::vector<EdgeOfFacet> m_Edges;
