@@ -28,6 +28,7 @@
 #include "itkDelaunayImageToMeshFilterTestHelpers.h"
 #include "DelaunayImageToMeshRandomizedSegmentation.h"
 #include "DelaunayRefinementGeometry.h"
+#include "DelaunayRefinementBoundaryVertexChecks.h"
 #include "DelaunayRefinementLocalSizingChecks.h"
 #include "DelaunayRefinementMeshQuality.h"
 #include "DelaunayRefinementVoxelPinches.h"
@@ -826,29 +827,19 @@ CheckBoundaryGuarantees(const dr::TetrahedralMesh & mesh, double delta, bool lem
   {
     return 0;
   }
-  std::size_t nonFeatureCorners = 0;
-  std::string firstNonFeatureCorner;
-  for (const auto & triangle : mesh.boundaryTriangles)
+  const std::vector<uint32_t> nonFeatureCorners = dr::NonFeatureBoundaryCorners(mesh);
+  if (!nonFeatureCorners.empty() && !lemma5MayFail)
   {
-    for (const uint32_t vertex : triangle)
-    {
-      if (mesh.pointKinds.at(vertex) != dr::VertexKind::Feature && nonFeatureCorners++ == 0)
-      {
-        std::ostringstream text;
-        text.precision(17);
-        text << dr::VertexKindName(mesh.pointKinds[vertex]) << " vertex " << vertex << " (" << mesh.points[vertex][0]
-             << ", " << mesh.points[vertex][1] << ", " << mesh.points[vertex][2] << ")";
-        firstNonFeatureCorner = text.str();
-      }
-    }
-  }
-  if (nonFeatureCorners != 0 && !lemma5MayFail)
-  {
-    violations.Add(nonFeatureCorners,
+    const uint32_t     vertex = nonFeatureCorners.front();
+    std::ostringstream first;
+    first.precision(17);
+    first << dr::VertexKindName(mesh.pointKinds[vertex]) << " vertex " << vertex << " (" << mesh.points[vertex][0]
+          << ", " << mesh.points[vertex][1] << ", " << mesh.points[vertex][2] << ")";
+    violations.Add(nonFeatureCorners.size(),
                    " boundary triangle corners are not feature vertices (rho >= 2), the first a ",
-                   firstNonFeatureCorner);
+                   first.str());
   }
-  return nonFeatureCorners;
+  return nonFeatureCorners.size();
 }
 
 /** Every tetrahedron carries a tissue label of the image; every boundary triangle has a tissue first and a

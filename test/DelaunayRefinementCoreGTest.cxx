@@ -21,6 +21,7 @@
 // reports about itself is trusted, and no bound is loosened beyond floating-point slack.
 
 #include "DelaunayRefinementAnalyticOracles.h"
+#include "DelaunayRefinementBoundaryVertexChecks.h"
 #include "DelaunayRefinementLocalSizingChecks.h"
 #include "DelaunayRefinementMeshQuality.h"
 #include "DelaunayRefinementMesher.h"
@@ -367,15 +368,7 @@ ExpectFaithfulBoundary(const MeshedShape & meshed, const AnalyticOracle & oracle
   {
     // Lemma 5 (which needs a uniform δ): with ρ >= 2 every restricted facet, hence every boundary triangle, has only
     // feature vertices.
-    std::size_t nonFeatureCorners = 0;
-    for (const auto & triangle : meshed.mesh.boundaryTriangles)
-    {
-      for (const uint32_t vertex : triangle)
-      {
-        nonFeatureCorners += meshed.mesh.pointKinds[vertex] != VertexKind::Feature;
-      }
-    }
-    EXPECT_EQ(nonFeatureCorners, 0u);
+    EXPECT_EQ(NonFeatureBoundaryCorners(meshed.mesh).size(), 0u);
   }
 }
 
@@ -847,14 +840,11 @@ TEST(CoreSliverRemoval, KeepsTheBoundaryBoundsOnEveryShape)
     // the acceptance test puts one there, and so can R4 on an intersecting cell whose edges R4′ shortened); it is a
     // corner of triangles inside their surface balls, so within δ of the surface.
     std::set<uint32_t> freeBoundaryVertices;
-    for (const auto & triangle : meshed.mesh.boundaryTriangles)
+    for (const uint32_t vertex : NonFeatureBoundaryCorners(meshed.mesh))
     {
-      for (const uint32_t vertex : triangle)
+      if (meshed.mesh.pointKinds[vertex] == VertexKind::Free && freeBoundaryVertices.insert(vertex).second)
       {
-        if (meshed.mesh.pointKinds[vertex] == VertexKind::Free && freeBoundaryVertices.insert(vertex).second)
-        {
-          EXPECT_LT(OracleOf(shape).ClosestSurfacePoint(meshed.mesh.points[vertex]).distance, delta);
-        }
+        EXPECT_LT(OracleOf(shape).ClosestSurfacePoint(meshed.mesh.points[vertex]).distance, delta);
       }
     }
     const RefinementStatistics & s = meshed.statistics;

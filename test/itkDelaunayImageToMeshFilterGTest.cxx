@@ -25,6 +25,7 @@
 #include "itkDelaunayImageToMeshFilterTestHelpers.h"
 #include "itkTetrahedralMeshVoxelizer.h"
 
+#include "DelaunayRefinementBoundaryVertexChecks.h"
 #include "DelaunayRefinementLocalSizingChecks.h"
 
 #include "itkCommand.h"
@@ -174,15 +175,7 @@ ExpectGuarantees(const Meshed<TFilter> & meshed)
   const bool uniformDelta = statistics.manifoldRefinementZones == 0;
   if (rho >= 2.0 && uniformDelta && !(sigma > 0.0))
   {
-    std::size_t nonFeatureCorners = 0;
-    for (const auto & triangle : meshed.mesh.boundaryTriangles)
-    {
-      for (const uint32_t vertex : triangle)
-      {
-        nonFeatureCorners += meshed.mesh.pointKinds[vertex] != dr::VertexKind::Feature;
-      }
-    }
-    EXPECT_EQ(nonFeatureCorners, 0u);
+    EXPECT_EQ(dr::NonFeatureBoundaryCorners(meshed.mesh).size(), 0u);
   }
 }
 
