@@ -638,6 +638,7 @@ public:
   {
     const std::size_t lines = size[1] * size[2];
     m_FirstRunOfLine.reserve(lines + 1);
+    m_Runs.reserve(CountRuns(labels, size[0] * lines, size[0]));
     for (std::size_t line = 0; line < lines; ++line)
     {
       m_FirstRunOfLine.push_back(m_Runs.size());
@@ -732,6 +733,24 @@ private:
     std::size_t length;
     Label       label;
   };
+
+  /** The number of runs of equal labels along x, lines `lineLength` long: the run list is then written once, into
+   * memory allocated once, instead of being copied each time it grows (measured on the k-means tissues at δ = 18 mm,
+   * a million voxels: the two passes of the regularisation were a quarter of its time, most of it in that growth). */
+  static std::size_t
+  CountRuns(const Label * labels, std::size_t numberOfVoxels, std::size_t lineLength)
+  {
+    std::size_t runs = 0;
+    for (std::size_t lineStart = 0; lineStart < numberOfVoxels; lineStart += lineLength)
+    {
+      ++runs;
+      for (std::size_t voxel = lineStart + 1; voxel < lineStart + lineLength; ++voxel)
+      {
+        runs += labels[voxel] != labels[voxel - 1];
+      }
+    }
+    return runs;
+  }
 
   std::size_t
   Find(std::size_t run)
