@@ -1164,8 +1164,12 @@ private:
       m_Spacing,
       GridStrides(),
       { { static_cast<long>(m_Size[0]) - 1, static_cast<long>(m_Size[1]) - 1, static_cast<long>(m_Size[2]) - 1 } });
+    // At most one change per removed voxel: reserved at once, since growing the list copied it into fresh memory at
+    // every doubling (a third of the transform's share of the k-means tissues at δ = 18 mm); pages never written are
+    // never touched.
     VoxelChanges changes;
-    const auto   takeLabelOf = [&](std::size_t voxel, std::size_t survivor) {
+    changes.reserve(removedVoxels.size());
+    const auto takeLabelOf = [&](std::size_t voxel, std::size_t survivor) {
       if (m_Labels[survivor] != m_Labels[voxel])
       {
         changes.emplace_back(voxel, m_Labels[survivor]);
