@@ -573,7 +573,12 @@ private:
   bool
   WillBeSplitByR3(const Split & split, CellHandle sliver) const
   {
-    Evaluate(split.point, split.kind, sliver, Ranked());
+    // Against no best, Evaluate asks for the labels of an insertable point; the guard keeps the arrays below from
+    // being another candidate's, should that ever change.
+    if (!Evaluate(split.point, split.kind, sliver, Ranked()).labelled)
+    {
+      return false;
+    }
     const Triangulation & triangulation = m_State.GetTriangulation();
     const auto            reaches =
       [this](const Vector3 & center, const Vector3 & otherCenter, const std::array<Vector3, 3> & corners) {
