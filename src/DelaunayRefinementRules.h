@@ -141,6 +141,30 @@ public:
     return std::min(m_Sizing.LocalDelta(center), ShortestEdgeLength(a, b, c));
   }
 
+  /** The surface ball of a restricted facet with corners `a`, `b`, `c` whose dual Voronoi edge joins `center` and
+   * `otherEnd` (centred where the edge crosses the surface), with R3's threshold for it. */
+  struct SurfaceBall
+  {
+    Vector3 center;
+    double  squaredRadius;
+    double  threshold;
+
+    /** Whether R3 splits the facet. */
+    bool
+    ReachesThreshold() const
+    {
+      return squaredRadius >= threshold * threshold;
+    }
+  };
+
+  SurfaceBall
+  SurfaceBallOf(const Vector3 & center, const Vector3 & otherEnd, const Vector3 & a, const Vector3 & b,
+                const Vector3 & c) const
+  {
+    const Vector3 ballCenter = m_Oracle.SurfaceCrossing(center, otherEnd);
+    return { ballCenter, SquaredNorm(ballCenter - a), SurfaceBallThreshold(ballCenter, a, b, c) };
+  }
+
 private:
   /** R1 counts a feature vertex up to this fraction beyond δ as within δ. An image oracle's surface points lie on
    * a lattice (the voxel faces' centres and crossings), whose distances are round multiples of the spacing, and
@@ -261,19 +285,18 @@ private:
       {
         continue;
       }
-      const CellHandle neighbor = cell->neighbor(facet);
-      const Vector3    otherEnd = m_State.GetTriangulation().is_infinite(neighbor) ? FarEndOfVoronoiRay(cell, facet)
-                                                                                   : neighbor->cache.circumcenter;
-      const Vector3    center = m_Oracle.SurfaceCrossing(cell->cache.circumcenter, otherEnd);
-      const Vector3    a = m_State.PointOf(cell->vertex((facet + 1) & 3));
-      const Vector3    b = m_State.PointOf(cell->vertex((facet + 2) & 3));
-      const Vector3    c = m_State.PointOf(cell->vertex((facet + 3) & 3));
-      const double     squaredRadius = SquaredNorm(center - a);
-      const double     threshold = SurfaceBallThreshold(center, a, b, c);
-      if (squaredRadius >= threshold * threshold && squaredRadius > bestSquaredRadius)
+      const CellHandle  neighbor = cell->neighbor(facet);
+      const Vector3     otherEnd = m_State.GetTriangulation().is_infinite(neighbor) ? FarEndOfVoronoiRay(cell, facet)
+                                                                                    : neighbor->cache.circumcenter;
+      const SurfaceBall ball = SurfaceBallOf(cell->cache.circumcenter,
+                                             otherEnd,
+                                             m_State.PointOf(cell->vertex((facet + 1) & 3)),
+                                             m_State.PointOf(cell->vertex((facet + 2) & 3)),
+                                             m_State.PointOf(cell->vertex((facet + 3) & 3)));
+      if (ball.ReachesThreshold() && ball.squaredRadius > bestSquaredRadius)
       {
-        bestSquaredRadius = squaredRadius;
-        best = Action{ Rule::R3, center, threshold };
+        bestSquaredRadius = ball.squaredRadius;
+        best = Action{ Rule::R3, ball.center, ball.threshold };
       }
     }
     return best;

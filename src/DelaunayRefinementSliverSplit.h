@@ -547,29 +547,37 @@ private:
       return std::all_of(
         m_NewLabels.begin(), m_NewLabels.end(), [this](Label label) { return label == m_NewLabels.front(); });
     }
+    return !AnyNewTriangleOnABoundary([this, &point](const EdgeOfFacet & edge, const EdgeOfFacet &) {
+      return IsFree(edge.a) || IsFree(edge.b) ||
+             !HasPlanarAnglesAbove30Degrees(m_State.PointOf(edge.a), m_State.PointOf(edge.b), point);
+    });
+  }
+
+  /** Whether visit(edge, twin) returns true for an edge of the conflict region's boundary (its two copies, m_Edges)
+   * whose new tetrahedra on its two facets differ in label: the triangle joining the new point to that edge is then
+   * on a boundary. Stops at the first. */
+  template <typename TVisit>
+  bool
+  AnyNewTriangleOnABoundary(TVisit && visit) const
+  {
     FindEdgesOfBoundaryFacets();
     for (std::size_t index = 0; index + 1 < m_Edges.size(); index += 2)
     {
       const EdgeOfFacet & edge = m_Edges[index];
       const EdgeOfFacet & twin = m_Edges[index + 1];
-      if (m_NewLabels[edge.facet] == m_NewLabels[twin.facet])
+      if (m_NewLabels[edge.facet] != m_NewLabels[twin.facet] && visit(edge, twin))
       {
-        continue;
-      }
-      if (IsFree(edge.a) || IsFree(edge.b) ||
-          !HasPlanarAnglesAbove30Degrees(m_State.PointOf(edge.a), m_State.PointOf(edge.b), point))
-      {
-        return false;
+        return true;
       }
     }
-    return true;
+    return false;
   }
 
   /** Whether R3 will split a boundary triangle at the tetrahedra that inserting `split` (a point Evaluate found
    * insertable) creates: one whose surface ball, centred where its dual Voronoi edge crosses the surface, reaches
-   * R3's threshold (RefinementRules::SurfaceBallThreshold). The insertion moves the ends of those edges, so the
-   * triangles it leaves on a boundary change their surface balls too, not only those it puts there. The point's
-   * conflict region is searched again, since the ranking may have evaluated other candidates after it. */
+   * R3's threshold (RefinementRules::SurfaceBallOf, as R3 itself tests it). The insertion moves the ends of those
+   * edges, so the triangles it leaves on a boundary change their surface balls too, not only those it puts there. The
+   * point's conflict region is searched again, since the ranking may have evaluated other candidates after it. */
   bool
   WillBeSplitByR3(const Split & split, CellHandle sliver) const
   {
@@ -580,12 +588,6 @@ private:
       return false;
     }
     const Triangulation & triangulation = m_State.GetTriangulation();
-    const auto            reaches =
-      [this](const Vector3 & center, const Vector3 & otherCenter, const std::array<Vector3, 3> & corners) {
-        const Vector3 ballCenter = m_Oracle.SurfaceCrossing(center, otherCenter);
-        const double  threshold = m_Rules.SurfaceBallThreshold(ballCenter, corners[0], corners[1], corners[2]);
-        return SquaredNorm(ballCenter - corners[0]) >= threshold * threshold;
-      };
     for (std::size_t index = 0; index < m_BoundaryFacets.size(); ++index)
     {
       const auto & [cell, opposite] = m_BoundaryFacets[index];
@@ -595,27 +597,25 @@ private:
         continue;
       }
       const std::array<VertexHandle, 3> corners = CornersOfBoundaryFacet(index);
-      if (reaches(m_NewCenters[index],
-                  outside->cache.circumcenter,
-                  { m_State.PointOf(corners[0]), m_State.PointOf(corners[1]), m_State.PointOf(corners[2]) }))
+      const auto                        ball = m_Rules.SurfaceBallOf(m_NewCenters[index],
+                                              outside->cache.circumcenter,
+                                              m_State.PointOf(corners[0]),
+                                              m_State.PointOf(corners[1]),
+                                              m_State.PointOf(corners[2]));
+      if (ball.ReachesThreshold())
       {
         return true;
       }
     }
-    FindEdgesOfBoundaryFacets();
-    for (std::size_t index = 0; index + 1 < m_Edges.size(); index += 2)
-    {
-      const EdgeOfFacet & edge = m_Edges[index];
-      const EdgeOfFacet & twin = m_Edges[index + 1];
-      if (m_NewLabels[edge.facet] != m_NewLabels[twin.facet] &&
-          reaches(m_NewCenters[edge.facet],
-                  m_NewCenters[twin.facet],
-                  { m_State.PointOf(edge.a), m_State.PointOf(edge.b), split.point }))
-      {
-        return true;
-      }
-    }
-    return false;
+    return AnyNewTriangleOnABoundary([this, &split](const EdgeOfFacet & edge, const EdgeOfFacet & twin) {
+      return m_Rules
+        .SurfaceBallOf(m_NewCenters[edge.facet],
+                       m_NewCenters[twin.facet],
+                       m_State.PointOf(edge.a),
+                       m_State.PointOf(edge.b),
+                       split.point)
+        .ReachesThreshold();
+    });
   }
 
   std::array<VertexHandle, 3>
