@@ -273,8 +273,9 @@ public:
   }
 
   /** The voxel labels the last update selected from the input (label selection, merging or the iso-value),
-   * cropped like GetObjectLabelImage(), before the regularisation and the joining of diagonal voxels: the
-   * segmentation the mesh stands for, the reference for fidelity and for tissues the regularisation removed. */
+   * cropped like GetObjectLabelImage(), before the regularisation, the joining of diagonal voxels and the local
+   * regularisation of the topology rounds: the segmentation the mesh stands for, the reference for fidelity and for
+   * tissues the regularisation removed. */
   const ObjectLabelImageType *
   GetSelectedLabelImage() const
   {

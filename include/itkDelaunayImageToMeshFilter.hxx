@@ -236,7 +236,7 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
   }
   ImageLabelOracle<InputImageType> & oracle = *oraclePointer;
   m_ObjectLabelImage = oracle.GetLabelImage();
-  m_SelectedLabelImage = oracle.GetSelectedLabelImage();
+  m_SelectedLabelImage = nullptr;
   m_RegularizationReport = oracle.GetRegularizationReport();
   m_NumberOfJoiningVoxels = oracle.GetNumberOfJoiningVoxels();
   if (oracle.GetNumberOfObjectVoxels() == 0 && m_RegularizationReport.changedVoxels > 0)
@@ -278,9 +278,19 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
   // The local regularisation changes the oracle's label image in place (m_ObjectLabelImage shares it).
   m_NumberOfLocallyRegularizedVoxels = oracle.GetNumberOfLocallyRegularizedVoxels();
   m_NumberOfJoiningVoxels = oracle.GetNumberOfJoiningVoxels();
+  const SizeValueType numberOfObjectVoxels = oracle.GetNumberOfObjectVoxels();
+  const bool          labelsDifferFromTheSelection = oracle.LabelsDifferFromTheSelection();
+  // The selection is made again from the input, once the oracle's per-voxel buffers are freed, rather than copied
+  // before the labels change and kept through the refinement: that copy was as large as the label image and made
+  // the peak memory (13 MB of 186 on the 1 mm brain mask).
+  oraclePointer.reset();
+  m_SelectedLabelImage =
+    labelsDifferFromTheSelection
+      ? ImageLabelSelection(mapping).SelectedLabelImage(*image, m_ObjectLabelImage->GetBufferedRegion())
+      : m_ObjectLabelImage;
   if (m_RefinedMesh.tetrahedra.empty())
   {
-    itkExceptionMacro(<< "The refinement produced no tetrahedron: the object (" << oracle.GetNumberOfObjectVoxels()
+    itkExceptionMacro(<< "The refinement produced no tetrahedron: the object (" << numberOfObjectVoxels
                       << " voxels) is too small for SurfaceSamplingDistance (delta) = "
                       << m_EffectiveSurfaceSamplingDistance << " mm; choose a smaller delta.");
   }

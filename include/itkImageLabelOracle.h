@@ -24,6 +24,7 @@
 #include "DelaunayRefinementVoxelPinches.h"
 
 #include "itkImage.h"
+#include "itkImageLabelSelection.h"
 #include "itkInterpolateImageFunction.h"
 
 #include <array>
@@ -33,32 +34,6 @@
 
 namespace itk
 {
-
-/** How voxel values become the labels the refinement sees. */
-struct ImageLabelMapping
-{
-  /** The labels to mesh; empty = every non-zero label. */
-  std::vector<delaunay_refinement::Label> selectedLabels;
-  /** Mesh every selected label as one object, labelled 1 (a mask whose values encode something else). */
-  bool mergeLabels{ false };
-  /** Gray values: label 1 where the interpolated value is >= isoValue, 0 elsewhere. */
-  bool   useIsoValue{ false };
-  double isoValue{ 0.0 };
-  /** With nearest-neighbour labels: remove the voxel pinches of every label, the background included (see
-   * delaunay_refinement::RemoveVoxelPinches), so that every label's voxel surface is a 2-manifold. Off here (the
-   * voxels as they are); the filter turns it on. */
-  bool joinDiagonalVoxels{ false };
-  /** With nearest-neighbour labels: open every label, the background included, with a ball of this radius
-   * (physical units) before anything else (see delaunay_refinement::RegularizeLabels). 0 = the voxels as they
-   * are. */
-  double regularizationRadius{ 0.0 };
-  /** Asked now and then during the regularisation: returning false aborts it (RefinementAborted). */
-  std::function<bool()> keepGoing;
-  /** The set-up's passes over every voxel (the regularisation's opening and distance transform, the
-   * nearest-interface map) run on up to this many threads; the result does not depend on it. The filter passes its
-   * number of work units. */
-  unsigned int numberOfThreads{ 1 };
-};
 
 /** \class ImageLabelOracle
  * \brief The refinement's view of an image: labels from an ITK interpolator, closest surface points from an
@@ -145,12 +120,13 @@ public:
     return m_LabelImage;
   }
 
-  /** The voxel labels as the mapping selects them from the input, before the regularisation and the joining of
-   * diagonal voxels (the same region as GetLabelImage()): the segmentation the mesh stands for. */
-  const LabelImageType *
-  GetSelectedLabelImage() const
+  /** Whether the regularisation, the joining of diagonal voxels or the local regularisation changed a voxel: then
+   * the label image is no longer the selection (ImageLabelSelection::SelectedLabelImage gives that). */
+  bool
+  LabelsDifferFromTheSelection() const
   {
-    return m_SelectedLabelImage;
+    return m_LabelsAreVoxelwise && (m_RegularizationReport.changedVoxels > 0 || m_NumberOfJoiningVoxels > 0 ||
+                                    m_NumberOfLocallyRegularizedVoxels > 0);
   }
 
   /** What the regularisation (ImageLabelMapping::regularizationRadius) did to each label. */
@@ -167,27 +143,17 @@ public:
     return m_NumberOfJoiningVoxels;
   }
 
-  /** The label a voxel value maps to. */
-  LabelType
-  MapValue(double value) const;
-
 private:
-  struct LabelMemo
-  {
-    bool      valid{ false };
-    double    value{ 0.0 };
-    LabelType label{ delaunay_refinement::BackgroundLabel };
-  };
-  LabelType
-  MapValueRemembering(double value, LabelMemo & memo) const;
   void
   BuildLabelImage(const InputImageType * image);
+  /** The feature transform of the current labels; with `keepSlices`, also m_NearestInterfaceInSlices. */
   void
-  BuildNearestInterfaceMap();
+  BuildNearestInterfaceMap(bool keepSlices);
   /** The same after labels changed near the given z-slices only (RegularizeAround; each slice within a voxel of a
    * changed voxel, in increasing order): the passes along x and y stay within a slice, so only those slices' are
    * redone, from m_NearestInterfaceInSlices, and the pass along z on the columns whose values there changed. The
-   * result is the full build's, bit for bit. */
+   * result is the full build's, bit for bit. The first update builds the whole map again instead, keeping the
+   * slices' values for the updates after it: most images never need them, and they are as large as the map. */
   void
   UpdateNearestInterfaceMap(const std::vector<SizeValueType> & slices);
   /** Changes the labels in one ball (RegularizeAround); appends each voxel it changes to `changes`. */
@@ -259,14 +225,14 @@ private:
   typename InputImageType::ConstPointer   m_Image;
   typename InterpolatorType::ConstPointer m_Interpolator;
   ImageLabelMapping                       m_Mapping;
+  ImageLabelSelection                     m_Selection;
   /** Whether LabelAt() is the label of the nearest voxel (a nearest-neighbour interpolator). */
   bool                             m_LabelsAreVoxelwise;
   typename LabelImageType::Pointer m_LabelImage;
-  typename LabelImageType::Pointer m_SelectedLabelImage;
   /** For each voxel of m_LabelImage (by buffer offset), the buffer offset of the nearest interface voxel. */
   delaunay_refinement::LargeVector<uint32_t> m_NearestInterfaceVoxel;
-  // The nearest interface voxels after the passes along x and y only (each z-slice's own), kept when the labels
-  // may be regularised later (UpdateNearestInterfaceMap).
+  // The nearest interface voxels after the passes along x and y only (each z-slice's own), from the first local
+  // regularisation on (UpdateNearestInterfaceMap); empty before it.
   delaunay_refinement::LargeVector<uint32_t> m_NearestInterfaceInSlices;
   /** Buffer offset steps of m_LabelImage along each axis. */
   std::array<SizeValueType, 3>                   m_BufferStrides{};

@@ -40,52 +40,17 @@ ImageLabelOracle<TInputImage>::ImageLabelOracle(const InputImageType * image, co
   : m_Image(image)
   , m_Interpolator(interpolator)
   , m_Mapping(std::move(mapping))
+  , m_Selection(m_Mapping)
   , m_LabelsAreVoxelwise(
       dynamic_cast<const NearestNeighborInterpolateImageFunction<InputImageType, double> *>(interpolator) != nullptr)
 {
-  std::sort(m_Mapping.selectedLabels.begin(), m_Mapping.selectedLabels.end());
   const auto & spacing = image->GetSpacing();
   m_SurfaceTolerance = 1e-4 * *std::min_element(spacing.Begin(), spacing.End());
   BuildLabelImage(image);
   if (m_NumberOfObjectVoxels > 0)
   {
-    BuildNearestInterfaceMap();
+    BuildNearestInterfaceMap(false);
   }
-}
-
-template <typename TInputImage>
-auto
-ImageLabelOracle<TInputImage>::MapValue(double value) const -> LabelType
-{
-  if (m_Mapping.useIsoValue)
-  {
-    return value >= m_Mapping.isoValue ? 1 : delaunay_refinement::BackgroundLabel;
-  }
-  if (!std::isfinite(value))
-  {
-    return delaunay_refinement::BackgroundLabel;
-  }
-  constexpr double largestLabel = static_cast<double>(std::numeric_limits<LabelType>::max());
-  const auto       label = static_cast<LabelType>(std::lround(std::clamp(value, -largestLabel, largestLabel)));
-  const auto &     selected = m_Mapping.selectedLabels;
-  if (label == delaunay_refinement::BackgroundLabel ||
-      !(selected.empty() || std::binary_search(selected.begin(), selected.end(), label)))
-  {
-    return delaunay_refinement::BackgroundLabel;
-  }
-  return m_Mapping.mergeLabels ? 1 : label;
-}
-
-/** Label images are runs of equal values: a run's label is looked up once. */
-template <typename TInputImage>
-auto
-ImageLabelOracle<TInputImage>::MapValueRemembering(double value, LabelMemo & memo) const -> LabelType
-{
-  if (!(memo.valid && value == memo.value))
-  {
-    memo = { true, value, MapValue(value) };
-  }
-  return memo.label;
 }
 
 /** The oracle's own label image covers the object's voxels and one voxel of background around them (the input's
@@ -100,10 +65,10 @@ ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
   IndexType    highest;
   lowest.Fill(NumericTraits<IndexValueType>::max());
   highest.Fill(NumericTraits<IndexValueType>::NonpositiveMin());
-  LabelMemo memo;
+  ImageLabelSelection::Memo memo;
   for (ImageRegionConstIteratorWithIndex<InputImageType> it(image, buffered); !it.IsAtEnd(); ++it)
   {
-    if (MapValueRemembering(static_cast<double>(it.Get()), memo) != delaunay_refinement::BackgroundLabel)
+    if (m_Selection.LabelOfRemembering(static_cast<double>(it.Get()), memo) != delaunay_refinement::BackgroundLabel)
     {
       ++m_NumberOfObjectVoxels;
       for (unsigned int axis = 0; axis < 3; ++axis)
@@ -130,30 +95,8 @@ ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
   m_LabelImage->SetDirection(image->GetDirection());
   m_LabelImage->Allocate();
   delaunay_refinement::AdviseHugePages(m_LabelImage->GetBufferPointer(), kept.GetNumberOfPixels() * sizeof(LabelType));
-  m_LabelImage->FillBuffer(delaunay_refinement::BackgroundLabel);
   m_BufferStrides = { 1, kept.GetSize()[0], kept.GetSize()[0] * kept.GetSize()[1] };
-  auto keptInsideImage = kept;
-  keptInsideImage.Crop(buffered);
-  ImageRegionConstIterator<InputImageType> input(image, keptInsideImage);
-  ImageRegionIterator<LabelImageType>      output(m_LabelImage, keptInsideImage);
-  for (; !input.IsAtEnd(); ++input, ++output)
-  {
-    output.Set(MapValueRemembering(static_cast<double>(input.Get()), memo));
-  }
-  m_SelectedLabelImage = m_LabelImage;
-  if ((m_Mapping.regularizationRadius > 0.0 || m_Mapping.joinDiagonalVoxels) && m_LabelsAreVoxelwise)
-  {
-    // The labels change below, and locally during the refinement: keep the selection as it was.
-    m_SelectedLabelImage = LabelImageType::New();
-    m_SelectedLabelImage->CopyInformation(m_LabelImage);
-    m_SelectedLabelImage->SetRegions(kept);
-    m_SelectedLabelImage->Allocate();
-    delaunay_refinement::AdviseHugePages(m_SelectedLabelImage->GetBufferPointer(),
-                                         kept.GetNumberOfPixels() * sizeof(LabelType));
-    std::copy(m_LabelImage->GetBufferPointer(),
-              m_LabelImage->GetBufferPointer() + kept.GetNumberOfPixels(),
-              m_SelectedLabelImage->GetBufferPointer());
-  }
+  m_Selection.Fill(*image, *m_LabelImage);
   if (m_Mapping.regularizationRadius > 0.0 && m_LabelsAreVoxelwise && m_NumberOfObjectVoxels > 0)
   {
     // Regularisation only moves labels between voxels that are already inside the object's padded bounds.
@@ -342,7 +285,7 @@ ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlongLine(unsigned int a
 
 template <typename TInputImage>
 void
-ImageLabelOracle<TInputImage>::BuildNearestInterfaceMap()
+ImageLabelOracle<TInputImage>::BuildNearestInterfaceMap(bool keepSlices)
 {
   const SizeValueType numberOfVoxels = m_LabelImage->GetBufferedRegion().GetNumberOfPixels();
   if (numberOfVoxels >= std::numeric_limits<uint32_t>::max())
@@ -357,7 +300,7 @@ ImageLabelOracle<TInputImage>::BuildNearestInterfaceMap()
     size[2], size[0] * size[1], [this](SizeValueType first, SizeValueType end) { MarkInterfaceVoxels(first, end); });
   PropagateNearestInterfaceAlongInParallel(0);
   PropagateNearestInterfaceAlongInParallel(1);
-  if (m_LabelsAreVoxelwise)
+  if (keepSlices)
   {
     m_NearestInterfaceInSlices = m_NearestInterfaceVoxel;
   }
@@ -401,6 +344,15 @@ template <typename TInputImage>
 void
 ImageLabelOracle<TInputImage>::UpdateNearestInterfaceMap(const std::vector<SizeValueType> & slices)
 {
+  if (slices.empty())
+  {
+    return;
+  }
+  if (m_NearestInterfaceInSlices.empty())
+  {
+    BuildNearestInterfaceMap(true);
+    return;
+  }
   const auto &        size = m_LabelImage->GetBufferedRegion().GetSize();
   const SizeValueType sliceSize = size[0] * size[1];
   // The slices are redone in place, then given their final values back: the pass along z is redone only on the
@@ -495,7 +447,7 @@ ImageLabelOracle<TInputImage>::LabelAt(const Vector3 & point) const -> LabelType
   {
     return delaunay_refinement::BackgroundLabel;
   }
-  return MapValue(m_Interpolator->EvaluateAtContinuousIndex(continuousIndex));
+  return m_Selection.LabelOf(m_Interpolator->EvaluateAtContinuousIndex(continuousIndex));
 }
 
 template <typename TInputImage>

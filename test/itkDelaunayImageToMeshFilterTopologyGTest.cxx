@@ -25,6 +25,7 @@
 #include "DelaunayRefinementMeshQuality.h"
 #include "itkDelaunayImageToMeshFilter.h"
 #include "itkDelaunayImageToMeshFilterTestHelpers.h"
+#include "itkImageRegionConstIteratorWithIndex.h"
 
 #include <gtest/gtest.h>
 
@@ -266,6 +267,44 @@ TEST_P(HostileShapes, EveryBoundaryIsAClosedManifoldAndThickBlocksStay)
   std::cout << NameOf(shape) << " delta " << delta << ": " << mesh.tetrahedra.size() << " tetrahedra, "
             << filter->GetRegularizationReport().changedVoxels << " voxels regularised, "
             << filter->GetNumberOfLocallyRegularizedVoxels() << " locally;" << summary.str() << "\n";
+}
+
+// GetSelectedLabelImage() is the segmentation the mesh stands for: the input's labels, whatever the regularisation,
+// the joining of diagonal voxels and the topology rounds' local regularisation did to the labels the oracle meshed.
+// The filter selects them from the input again after the refinement (it no longer keeps a copy through it), and with
+// the regularisation and the joining off the oracle's label image is the only other copy, which the local
+// regularisation changes in place.
+TEST(SelectedLabelImage, IsTheInputsLabelsAfterTheLabelsChangedLocally)
+{
+  const HostileImage hostile = MakeHostileImage(HostileShape::Speckle);
+  auto               filter = FilterType::New();
+  filter->SetInput(hostile.image);
+  filter->SetSurfaceSamplingDistance(LargestSpacing);
+  filter->SetRegularizationScale(0.0);
+  filter->SetJoinDiagonalVoxels(false);
+  filter->SetRelabelNonManifoldPlaces(false);
+  filter->Update();
+  ASSERT_GT(filter->GetNumberOfLocallyRegularizedVoxels(), 0u) << "the case no longer exercises what it tests";
+
+  const auto * selected = filter->GetSelectedLabelImage();
+  const auto * meshed = filter->GetObjectLabelImage();
+  ASSERT_NE(selected, nullptr);
+  ASSERT_EQ(selected->GetBufferedRegion(), meshed->GetBufferedRegion());
+  std::size_t compared = 0;
+  std::size_t differFromTheMeshedLabels = 0;
+  for (itk::ImageRegionConstIteratorWithIndex<FilterType::ObjectLabelImageType> it(selected,
+                                                                                   selected->GetBufferedRegion());
+       !it.IsAtEnd();
+       ++it)
+  {
+    const auto & index = it.GetIndex();
+    const int    expected = hostile.image->GetBufferedRegion().IsInside(index) ? hostile.image->GetPixel(index) : 0;
+    ASSERT_EQ(it.Get(), expected) << "at voxel " << index;
+    differFromTheMeshedLabels += meshed->GetPixel(index) != it.Get() ? 1 : 0;
+    ++compared;
+  }
+  EXPECT_GT(compared, 0u);
+  EXPECT_GT(differFromTheMeshedLabels, 0u) << "the local regularisation changed no label the oracle meshed";
 }
 
 std::string
