@@ -545,7 +545,23 @@ Run(int argc, char * argv[])
   {
     return *exitCode;
   }
-  return options.isoValue ? MeshImage<GrayImageType>(options) : MeshImage<LabelImageType>(options);
+  if (options.isoValue)
+  {
+    return MeshImage<GrayImageType>(options);
+  }
+  // A label file of 8- or 16-bit integers is read as they are: as 32-bit integers it took two to four times the
+  // file's voxels in memory, as much as the whole refinement (49 MB for the 12 MB of the 1 mm brain mask).
+  switch (ScalarComponentTypeOf(options.inputPath))
+  {
+    case itk::IOComponentEnum::UCHAR:
+      return MeshImage<itk::Image<uint8_t, 3>>(options);
+    case itk::IOComponentEnum::SHORT:
+      return MeshImage<itk::Image<int16_t, 3>>(options);
+    case itk::IOComponentEnum::USHORT:
+      return MeshImage<itk::Image<uint16_t, 3>>(options);
+    default:
+      return MeshImage<LabelImageType>(options);
+  }
 }
 
 int

@@ -156,6 +156,33 @@ ReadDicomSeries(const std::string & directory, std::ostream * notes)
 #endif
 }
 
+/** The pixel component type of a one-component image file; unknown for a directory (a DICOM series), a
+ * many-component file or a file ITK cannot read (ReadImage() then says why). */
+inline itk::IOComponentEnum
+ScalarComponentTypeOf(const std::string & path)
+{
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error))
+  {
+    return itk::IOComponentEnum::UNKNOWNCOMPONENTTYPE;
+  }
+  const itk::ImageIOBase::Pointer io = itk::ImageIOFactory::CreateImageIO(path.c_str(), itk::IOFileModeEnum::ReadMode);
+  if (io.IsNull())
+  {
+    return itk::IOComponentEnum::UNKNOWNCOMPONENTTYPE;
+  }
+  try
+  {
+    io->SetFileName(path);
+    io->ReadImageInformation();
+  }
+  catch (const itk::ExceptionObject &)
+  {
+    return itk::IOComponentEnum::UNKNOWNCOMPONENTTYPE;
+  }
+  return io->GetNumberOfComponents() == 1 ? io->GetComponentType() : itk::IOComponentEnum::UNKNOWNCOMPONENTTYPE;
+}
+
 template <typename TImage>
 typename TImage::Pointer
 ReadImage(const std::string & path, std::ostream * notes)

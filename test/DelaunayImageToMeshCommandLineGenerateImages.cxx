@@ -20,11 +20,14 @@
 // - labels.nii.gz, labels.nrrd, labels.mha: two overlapping balls, label 1 (radius 7 mm, centred 3 mm to the
 //   left of the image centre) and label 2 (radius 5 mm, 5 mm to the right, winning where they overlap), on an
 //   anisotropic, rotated, shifted grid, so that the files only agree if spacing, origin and direction are read;
+// - labels-uint8.nrrd, labels-uint16.nrrd, labels-int32.nrrd: the same image in other pixel types (the program
+//   reads 8- and 16-bit label files as they are, other types as 32-bit integers);
 // - labels-dicom/: the same balls as a DICOM series (one file per slice), on an unrotated grid;
 // - gray.mha: 100 minus the distance to the image centre (mm), so that --iso 92 is a ball of radius 8 mm.
 // - speck.nii.gz: the balls and a third tissue, label 3, of two face-adjacent voxels (3.75 mm³) away from them:
 //   a tissue far thinner than the default δ (6 mm), which the mesh loses.
 
+#include "itkCastImageFilter.h"
 #include "itkGDCMImageIO.h"
 #include "itkImage.h"
 #include "itkImageFileWriter.h"
@@ -140,6 +143,17 @@ WriteImage(const TImage * image, const std::string & path)
   writer->Update();
 }
 
+template <typename TPixel>
+void
+WriteLabelsAs(const LabelImageType * labels, const std::string & path)
+{
+  using OutputImageType = itk::Image<TPixel, 3>;
+  auto cast = itk::CastImageFilter<LabelImageType, OutputImageType>::New();
+  cast->SetInput(labels);
+  cast->Update();
+  WriteImage(cast->GetOutput(), path);
+}
+
 std::string
 DicomNumbers(const std::vector<double> & values)
 {
@@ -224,6 +238,9 @@ main(int argc, char * argv[])
     {
       WriteImage(labels.GetPointer(), (directory / name).string());
     }
+    WriteLabelsAs<uint8_t>(labels, (directory / "labels-uint8.nrrd").string());
+    WriteLabelsAs<uint16_t>(labels, (directory / "labels-uint16.nrrd").string());
+    WriteLabelsAs<int32_t>(labels, (directory / "labels-int32.nrrd").string());
     WriteDicomSeries(MakeLabelImage(false), directory / "labels-dicom");
     WriteImage(MakeGrayImage().GetPointer(), (directory / "gray.mha").string());
     WriteImage(MakeSpeckImage().GetPointer(), (directory / "speck.nii.gz").string());

@@ -16,7 +16,7 @@
 #
 # ==========================================================================
 """Checks what the program reads and how the options reach the filter, on the generated images:
-NIfTI, NRRD and MetaImage copies of one image give the same mesh, with the analytic volumes; a DICOM series
+NIfTI, NRRD and MetaImage copies of one image, and copies in 8-, 16- and 32-bit pixels, give the same mesh, with the analytic volumes; a DICOM series
 gives the same objects; --iso meshes a gray image; --labels, --delta, --radius-edge and --min-dihedral are
 honoured; progress goes to stderr as plain lines when stderr is not a terminal.
 
@@ -53,8 +53,11 @@ def check_ball_volumes(report, name):
 
 
 def check_file_formats_agree(program, images, output):
+    """The formats, and the pixel types the program reads in different ways (8- and 16-bit integers as they are,
+    others as 32-bit integers; labels.* are 16-bit), give the same mesh."""
     reports = {}
-    for name in ("labels.nii.gz", "labels.nrrd", "labels.mha"):
+    for name in ("labels.nii.gz", "labels.nrrd", "labels.mha", "labels-uint8.nrrd", "labels-uint16.nrrd",
+                 "labels-int32.nrrd"):
         _, reports[name] = mesh_and_report(program, os.path.join(images, name), output, name, options=["--delta", "2"])
         check_ball_volumes(reports[name], name)
     summaries = {name: (report["vertices"], report["tetrahedra"], report["boundary_triangles"],
