@@ -550,9 +550,14 @@ Run(int argc, char * argv[])
     return MeshImage<GrayImageType>(options);
   }
   // A label file of 8- or 16-bit integers is read as they are: as 32-bit integers it took two to four times the
-  // file's voxels in memory, as much as the whole refinement (49 MB for the 12 MB of the 1 mm brain mask).
+  // file's voxels in memory, as much as the whole refinement (49 MB for the 12 MB of the 1 mm brain mask). A file of
+  // floating-point labels is read as floats, so that the filter rounds each value to the nearest label: reading it
+  // as integers truncated 1.9999999 to label 1.
   switch (ScalarComponentTypeOf(options.inputPath))
   {
+    case itk::IOComponentEnum::FLOAT:
+    case itk::IOComponentEnum::DOUBLE:
+      return MeshImage<GrayImageType>(options);
     case itk::IOComponentEnum::UCHAR:
       return MeshImage<itk::Image<uint8_t, 3>>(options);
     case itk::IOComponentEnum::SHORT:

@@ -20,8 +20,9 @@
 // - labels.nii.gz, labels.nrrd, labels.mha: two overlapping balls, label 1 (radius 7 mm, centred 3 mm to the
 //   left of the image centre) and label 2 (radius 5 mm, 5 mm to the right, winning where they overlap), on an
 //   anisotropic, rotated, shifted grid, so that the files only agree if spacing, origin and direction are read;
-// - labels-uint8.nrrd, labels-uint16.nrrd, labels-int32.nrrd: the same image in other pixel types (the program
-//   reads 8- and 16-bit label files as they are, other types as 32-bit integers);
+// - labels-uint8.nrrd, labels-uint16.nrrd, labels-int32.nrrd, labels-float.nrrd: the same image in other pixel
+//   types (the program reads 8- and 16-bit label files as they are, floating-point ones as floats, others as 32-bit
+//   integers); labels-float-rounding.nrrd holds each label less 1e-4, which must round to the same labels;
 // - labels-dicom/: the same balls as a DICOM series (one file per slice), on an unrotated grid;
 // - gray.mha: 100 minus the distance to the image centre (mm), so that --iso 92 is a ball of radius 8 mm.
 // - speck.nii.gz: the balls and a third tissue, label 3, of two face-adjacent voxels (3.75 mm³) away from them:
@@ -31,6 +32,8 @@
 #include "itkGDCMImageIO.h"
 #include "itkImage.h"
 #include "itkImageFileWriter.h"
+#include "itkImageRegionConstIterator.h"
+#include "itkImageRegionIterator.h"
 #include "itkImageRegionIteratorWithIndex.h"
 #include "itkImageSeriesWriter.h"
 #include "itkMetaDataObject.h"
@@ -143,6 +146,23 @@ WriteImage(const TImage * image, const std::string & path)
   writer->Update();
 }
 
+/** The labels as floats, each non-zero one less 1e-4: a label image resampled or saved in floating point. */
+GrayImageType::Pointer
+LabelsLessATenThousandth(const LabelImageType * labels)
+{
+  auto image = GrayImageType::New();
+  image->CopyInformation(labels);
+  image->SetRegions(labels->GetBufferedRegion());
+  image->Allocate();
+  itk::ImageRegionConstIterator<LabelImageType> input(labels, labels->GetBufferedRegion());
+  itk::ImageRegionIterator<GrayImageType>       output(image, image->GetBufferedRegion());
+  for (; !input.IsAtEnd(); ++input, ++output)
+  {
+    output.Set(input.Get() == 0 ? 0.0f : static_cast<float>(input.Get()) - 1e-4f);
+  }
+  return image;
+}
+
 template <typename TPixel>
 void
 WriteLabelsAs(const LabelImageType * labels, const std::string & path)
@@ -241,6 +261,8 @@ main(int argc, char * argv[])
     WriteLabelsAs<uint8_t>(labels, (directory / "labels-uint8.nrrd").string());
     WriteLabelsAs<uint16_t>(labels, (directory / "labels-uint16.nrrd").string());
     WriteLabelsAs<int32_t>(labels, (directory / "labels-int32.nrrd").string());
+    WriteLabelsAs<float>(labels, (directory / "labels-float.nrrd").string());
+    WriteImage(LabelsLessATenThousandth(labels).GetPointer(), (directory / "labels-float-rounding.nrrd").string());
     WriteDicomSeries(MakeLabelImage(false), directory / "labels-dicom");
     WriteImage(MakeGrayImage().GetPointer(), (directory / "gray.mha").string());
     WriteImage(MakeSpeckImage().GetPointer(), (directory / "speck.nii.gz").string());

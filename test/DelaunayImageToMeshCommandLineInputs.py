@@ -54,10 +54,11 @@ def check_ball_volumes(report, name):
 
 def check_file_formats_agree(program, images, output):
     """The formats, and the pixel types the program reads in different ways (8- and 16-bit integers as they are,
-    others as 32-bit integers; labels.* are 16-bit), give the same mesh."""
+    floating point as floats, others as 32-bit integers; labels.* are 16-bit), give the same mesh, also when the
+    floating-point labels are each 1e-4 below an integer (rounded, not truncated)."""
     reports = {}
     for name in ("labels.nii.gz", "labels.nrrd", "labels.mha", "labels-uint8.nrrd", "labels-uint16.nrrd",
-                 "labels-int32.nrrd"):
+                 "labels-int32.nrrd", "labels-float.nrrd", "labels-float-rounding.nrrd"):
         _, reports[name] = mesh_and_report(program, os.path.join(images, name), output, name, options=["--delta", "2"])
         check_ball_volumes(reports[name], name)
     summaries = {name: (report["vertices"], report["tetrahedra"], report["boundary_triangles"],
