@@ -1214,7 +1214,8 @@ TEST(RandomizedKnownDefect, ComponentsADeltaAcrossCanBeLost)
  * seeds 19,000-19,399, found at c670540; Mixed 8020056, ρ = 1, σ = 17.0°, δ = 0.92 mm, seeds 19,800-20,199, found
  * at 87797bf; Mixed 8021071, ρ = 1, σ = 17.3°, δ = 1.98 mm, and 8021246, ρ = 1, σ = 18.9°, δ = 0.52 mm, seeds
  * 21,000-21,399, found at 11bc406; Mixed 8023578, ρ = 1, σ = 17.7°, δ = 1.47 mm, seeds 23,400-23,799, found at
- * e788375, which runs away also with 345928a's corner moves before R3 undone; and, with the default σ = 10° of issue
+ * e788375, which runs away also with 345928a's corner moves before R3 undone; Mixed 8024542, ρ = 1, σ = 16.4°,
+ * δ = 1.08 mm, seeds 24,200-24,599, found at be9cf6a, 100,000 vertices in 25 s; and, with the default σ = 10° of issue
  * #15, Blobs 1000030, ρ = 1, δ = 0.60 mm, which ends at its δ with 52,639 tetrahedra and reaches the cap at
  * δ (1 + 1e-9)); pinned with a cap of 5,000 vertices, 20 times what an ending run needs. The error says that
  * termination is proven for ρ >= 2 and σ = 0 only. */
