@@ -98,7 +98,7 @@ ParseOptions(int argc, char * argv[], Options & options)
                 options.sliverRemovalAngle,
                 "sigma in degrees of the sliver-removal row (our filter with --min-dihedral,\nbeside "
                 "CGAL+perturb+exude); 0 leaves the row out")
-    ->check(CLI::Range(0.0, 30.0))
+    ->check(CLI::Range(0.0, delaunay_refinement::ParameterLimits::LargestMinimumDihedralAngle))
     ->capture_default_str();
   app.add_option("--data-dir", options.dataDirectory, "where ITK's example images are")->capture_default_str();
   app

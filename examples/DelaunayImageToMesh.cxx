@@ -212,8 +212,9 @@ AddOptions(CLI::App & app, Options & options)
     ->capture_default_str()
     ->check(CoreRange(&RefinementParameters::radiusEdgeBound));
   app.add_option("--min-dihedral", options.minimumDihedralAngle)
-    ->description("remove slivers: split or move tetrahedra with a dihedral angle below DEG, 0 to\n30 (the R4' "
-                  "variant; 0 = off, the paper's method, whose bounds are proven)")
+    ->description("remove slivers: split or move tetrahedra with a dihedral angle below DEG, 0 to\n" +
+                  std::to_string(static_cast<int>(delaunay_refinement::ParameterLimits::LargestMinimumDihedralAngle)) +
+                  " (the R4' variant; 0 = off, the paper's method, whose bounds are proven)")
     ->type_name("DEG")
     ->capture_default_str()
     ->check(CoreRange(&RefinementParameters::minimumDihedralAngle));

@@ -147,15 +147,15 @@ SigmaFromCode(uint8_t code)
     case 251:
       return -1.0;
     case 252:
-      return 31.0;
+      return delaunay_refinement::ParameterLimits::LargestMinimumDihedralAngle + 1.0;
     case 253:
       return std::numeric_limits<double>::quiet_NaN();
     case 254:
-      return 30.0;
+      return delaunay_refinement::ParameterLimits::LargestMinimumDihedralAngle;
     case 255:
       return 1e-9;
     default:
-      return code < 192 ? 0.0 : (code - 192) / 58.0 * 30.0;
+      return code < 192 ? 0.0 : (code - 192) / 58.0 * delaunay_refinement::ParameterLimits::LargestMinimumDihedralAngle;
   }
 }
 
@@ -279,7 +279,8 @@ IsValid(const FilterSettings & settings)
   const double rho = settings.radiusEdgeBound;
   const double sigma = settings.minimumDihedralAngle;
   // δ beyond 1e30 mm overflows the geometry: the proposed fix of the fuzzer's first finding refuses it.
-  return delta >= 0.0 && delta <= 1e30 && std::isfinite(rho) && rho >= 1.0 && sigma >= 0.0 && sigma <= 30.0 &&
+  return delta >= 0.0 && delta <= 1e30 && std::isfinite(rho) && rho >= 1.0 && sigma >= 0.0 &&
+         sigma <= delaunay_refinement::ParameterLimits::LargestMinimumDihedralAngle &&
          settings.maximumNumberOfVertices >= 8 && settings.manifoldRefinementLevels <= 10;
 }
 

@@ -114,7 +114,7 @@ public:
   itkGetConstMacro(RadiusEdgeBound, double);
 
   /** σ, a minimum dihedral angle in degrees (the R4' variant, which removes slivers). Default 10; 0 = off, the
-   * paper's method, whose bounds are proven; valid: [0, 30]. With σ > 0 the bounds are measured, not proven
+   * paper's method, whose bounds are proven; valid: [0, 20]. With σ > 0 the bounds are measured, not proven
    * (RefinementParameters::minimumDihedralAngle says what was measured). */
   itkSetMacro(MinimumDihedralAngle, double);
   itkGetConstMacro(MinimumDihedralAngle, double);

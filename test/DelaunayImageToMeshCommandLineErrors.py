@@ -54,7 +54,9 @@ def error_cases(image, output):
         ([image, mesh, "--radius-edge", "0.5"], "--radius-edge: Invalid parameter radiusEdgeBound (rho) = 0.5: the "
          "valid range is [1, +inf)"),
         ([image, mesh, "--min-dihedral", "45"], "--min-dihedral: Invalid parameter minimumDihedralAngle (sigma, "
-         "degrees) = 45: the valid range is [0, 30]"),
+         "degrees) = 45: the valid range is [0, 20]"),
+        ([image, mesh, "--min-dihedral", "20.5"], "--min-dihedral: Invalid parameter minimumDihedralAngle (sigma, "
+         "degrees) = 20.5: the valid range is [0, 20]"),
         ([image, mesh, "--labels", "1,x"], "--labels: needs 'all' or comma-separated integer labels such as 1,2 (0, "
          "the background, cannot be selected), got 'x'"),
         ([image, mesh, "--labels", "0,1"], "--labels: needs 'all' or comma-separated integer labels such as 1,2 (0, "

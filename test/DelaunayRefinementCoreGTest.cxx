@@ -703,7 +703,8 @@ TEST(CoreParameters, InvalidValuesAreRejectedByName)
     { "radiusEdgeBound", ParametersOf(1.0, nan) },
     { "radiusEdgeBound", ParametersOf(1.0, infinity) },
     { "minimumDihedralAngle", ParametersOf(1.0, 2.0, -1.0) },
-    { "minimumDihedralAngle", ParametersOf(1.0, 2.0, 30.5) },
+    { "minimumDihedralAngle", ParametersOf(1.0, 2.0, ParameterLimits::LargestMinimumDihedralAngle + 0.5) },
+    { "minimumDihedralAngle", ParametersOf(1.0, 2.0, 30.0) },
     { "minimumDihedralAngle", ParametersOf(1.0, 2.0, nan) },
   };
   const SphereOracle sphere({ { 0.0, 0.0, 0.0 } }, 10.0);
@@ -715,7 +716,7 @@ TEST(CoreParameters, InvalidValuesAreRejectedByName)
   }
   // The ends of the valid ranges are valid.
   EXPECT_NO_THROW(ValidateParameters(ParametersOf(1e-6, 1.0, 0.0)));
-  EXPECT_NO_THROW(ValidateParameters(ParametersOf(1.0, 1.0, 30.0)));
+  EXPECT_NO_THROW(ValidateParameters(ParametersOf(1.0, 1.0, ParameterLimits::LargestMinimumDihedralAngle)));
 }
 
 TEST(CoreLimits, VertexLimitIsEnforced)

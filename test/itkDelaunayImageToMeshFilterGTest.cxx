@@ -1546,7 +1546,7 @@ TEST(BadInput, RadiusEdgeBound)
 
 TEST(BadInput, MinimumDihedralAngle)
 {
-  for (const double sigma : { -1.0, 30.5, 90.0, std::numeric_limits<double>::quiet_NaN() })
+  for (const double sigma : { -1.0, 20.5, 30.0, 90.0, std::numeric_limits<double>::quiet_NaN() })
   {
     SCOPED_TRACE("sigma " + std::to_string(sigma));
     auto filter = FilterFor(SmallBall().GetPointer(), 2.0);
