@@ -20,9 +20,7 @@
 
 #include "itkImageLabelOracle.h"
 
-#include "itkImageRegionConstIterator.h"
 #include "itkImageRegionConstIteratorWithIndex.h"
-#include "itkImageRegionIterator.h"
 #include "itkMultiThreaderBase.h"
 #include "itkNearestNeighborInterpolateImageFunction.h"
 
@@ -88,15 +86,8 @@ ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
     }
   }
   kept.PadByRadius(1);
-  m_LabelImage = LabelImageType::New();
-  m_LabelImage->SetRegions(kept);
-  m_LabelImage->SetOrigin(image->GetOrigin());
-  m_LabelImage->SetSpacing(image->GetSpacing());
-  m_LabelImage->SetDirection(image->GetDirection());
-  m_LabelImage->Allocate();
-  delaunay_refinement::AdviseHugePages(m_LabelImage->GetBufferPointer(), kept.GetNumberOfPixels() * sizeof(LabelType));
+  m_LabelImage = m_Selection.SelectedLabelImage(*image, kept);
   m_BufferStrides = { 1, kept.GetSize()[0], kept.GetSize()[0] * kept.GetSize()[1] };
-  m_Selection.Fill(*image, *m_LabelImage);
   if (m_Mapping.regularizationRadius > 0.0 && m_LabelsAreVoxelwise && m_NumberOfObjectVoxels > 0)
   {
     // Regularisation only moves labels between voxels that are already inside the object's padded bounds.

@@ -18,6 +18,7 @@
 #ifndef itkImageLabelSelection_h
 #define itkImageLabelSelection_h
 
+#include "DelaunayRefinementLargeBuffers.h"
 #include "DelaunayRefinementTypes.h"
 
 #include "itkImage.h"
@@ -125,25 +126,8 @@ public:
     return memo.label;
   }
 
-  /** Sets every voxel of `labels` to the label of the voxel of `image` there, background outside `image`'s
-   * buffered region (the images share their geometry). */
-  template <typename TInputImage>
-  void
-  Fill(const TInputImage & image, LabelImageType & labels) const
-  {
-    labels.FillBuffer(delaunay_refinement::BackgroundLabel);
-    auto insideImage = labels.GetBufferedRegion();
-    insideImage.Crop(image.GetBufferedRegion());
-    Memo                                  memo;
-    ImageRegionConstIterator<TInputImage> input(&image, insideImage);
-    ImageRegionIterator<LabelImageType>   output(&labels, insideImage);
-    for (; !input.IsAtEnd(); ++input, ++output)
-    {
-      output.Set(LabelOfRemembering(static_cast<double>(input.Get()), memo));
-    }
-  }
-
-  /** A new image over `region` (in the geometry of `image`), filled as Fill() does. */
+  /** A new image over `region`, in the geometry of `image`: each voxel the label of the voxel of `image` there,
+   * background outside `image`'s buffered region. */
   template <typename TInputImage>
   typename LabelImageType::Pointer
   SelectedLabelImage(const TInputImage & image, const typename LabelImageType::RegionType & region) const
@@ -154,7 +138,17 @@ public:
     labels->SetSpacing(image.GetSpacing());
     labels->SetDirection(image.GetDirection());
     labels->Allocate();
-    Fill(image, *labels);
+    delaunay_refinement::AdviseHugePages(labels->GetBufferPointer(), region.GetNumberOfPixels() * sizeof(LabelType));
+    labels->FillBuffer(delaunay_refinement::BackgroundLabel);
+    auto insideImage = region;
+    insideImage.Crop(image.GetBufferedRegion());
+    Memo                                  memo;
+    ImageRegionConstIterator<TInputImage> input(&image, insideImage);
+    ImageRegionIterator<LabelImageType>   output(labels, insideImage);
+    for (; !input.IsAtEnd(); ++input, ++output)
+    {
+      output.Set(LabelOfRemembering(static_cast<double>(input.Get()), memo));
+    }
     return labels;
   }
 
