@@ -358,6 +358,12 @@ RunAndVerify(const typename TImage::Pointer & image, const FilterSettings & sett
         Fail("no voxel is selected, yet the filter did not say so", result, settings);
       }
       return;
+    case Outcome::SliverRemovalWithoutEnd:
+      if (!SliverRemovalMayNotEnd(settings))
+      {
+        Fail("sliver removal stopped by its budget with rho >= 2", result, settings);
+      }
+      return;
     case Outcome::InvalidParameter:
       Fail("valid parameters were refused", result, settings);
     case Outcome::Aborted:

@@ -109,6 +109,15 @@ public:
   using std::runtime_error::runtime_error;
 };
 
+/** Thrown when the sliver removal (R4′, RefinementParameters::minimumDihedralAngle > 0) makes a pass of the
+ * refinement grow beyond its budget (docs/algorithm.md, "When sliver removal does not end"): nothing proves that it
+ * ends, and where it does not, R4 and R4′ keep making work for each other until the vertex cap. */
+class DelaunayImageToMesh_EXPORT SliverRemovalWithoutEnd : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
+
 /** Thrown when the progress observer asked to stop. */
 class DelaunayImageToMesh_EXPORT RefinementAborted : public std::runtime_error
 {
@@ -122,9 +131,9 @@ public:
  * With a `regularizer` (usually the oracle itself), where a boundary comes out non-manifold the oracle's labels
  * are regularised there and the refinement resumes (RefinementParameters::topologyRegularizationRounds).
  *
- * Throws std::invalid_argument for invalid parameters, VertexLimitExceeded, RefinementAborted. An oracle
- * with empty ObjectBounds() gives an empty mesh. Deterministic: the same oracle and parameters give the same
- * mesh. */
+ * Throws std::invalid_argument for invalid parameters, VertexLimitExceeded, SliverRemovalWithoutEnd,
+ * RefinementAborted. An oracle with empty ObjectBounds() gives an empty mesh. Deterministic: the same oracle and
+ * parameters give the same mesh. */
 DelaunayImageToMesh_EXPORT TetrahedralMesh
 RefineMesh(const LabelOracle & oracle, const RefinementParameters & parameters,
            RefinementStatistics * statistics = nullptr, const ProgressObserver & observer = {},

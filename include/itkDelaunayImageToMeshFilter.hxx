@@ -275,6 +275,12 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
   {
     itkExceptionMacro(<< error.what() << " (MaximumNumberOfVertices = " << m_MaximumNumberOfVertices << ")");
   }
+  catch (const delaunay_refinement::SliverRemovalWithoutEnd & error)
+  {
+    itkExceptionMacro(<< error.what() << " (MinimumDihedralAngle = " << m_MinimumDihedralAngle << ", valid range [0, "
+                      << delaunay_refinement::ParameterLimits::LargestMinimumDihedralAngle
+                      << "], 0 = off; RadiusEdgeBound = " << m_RadiusEdgeBound << ")");
+  }
   // The local regularisation changes the oracle's label image in place (m_ObjectLabelImage shares it).
   m_NumberOfLocallyRegularizedVoxels = oracle.GetNumberOfLocallyRegularizedVoxels();
   m_NumberOfJoiningVoxels = oracle.GetNumberOfJoiningVoxels();
