@@ -465,6 +465,17 @@ public:
     return std::any_of(m_Words.begin(), m_Words.end(), [](uint64_t word) { return word != 0; });
   }
 
+  std::size_t
+  Count() const
+  {
+    std::size_t count = 0;
+    for (const uint64_t word : m_Words)
+    {
+      count += static_cast<std::size_t>(__builtin_popcountll(word));
+    }
+    return count;
+  }
+
   /** Every voxel of row (y, z) also sets its two neighbours along x. */
   void
   GrowRowAlongX(long y, long z)
@@ -1060,6 +1071,9 @@ private:
     notKept.Invert();
     BoxBits lost = eroded;
     lost.Keep(DilateByBall(OuterBoundary(notKept), dilationBall), true);
+    // Reserved at once: growing the list copied it into fresh memory at every doubling (a quarter of the opening's
+    // time on the k-means tissues at δ = 18 mm, where whole tissues go).
+    removedVoxels.reserve(removedVoxels.size() + lost.Count());
     lost.ForEachSet([&](long x, long y, long z) {
       const long i = box.lower[0] + x;
       const long j = box.lower[1] + y;
