@@ -111,6 +111,9 @@ AppendTriangleSamples(const Vector3 & a, const Vector3 & b, const Vector3 & c, d
   }
 }
 
+/** The most reference points the distance search tree of a TriangleSurfaceDistance holds (see its constructor). */
+constexpr std::size_t LargestSearchTreePoints = std::size_t{ 1 } << 20;
+
 /** Below this many queries per thread, starting a thread costs more than it saves. */
 constexpr std::size_t MinimumQueriesPerThread = 20000;
 
@@ -208,9 +211,20 @@ TriangleSurfaceDistance::TriangleSurfaceDistance(const std::vector<Vector3> &   
   {
     m_Tree->tree.insert(m_Tree->triangles.cbegin(), m_Tree->triangles.cend());
     m_Tree->tree.build();
-    // Builds the internal search tree now rather than on the first query, and makes every query start near
-    // its answer instead of at an arbitrary primitive.
-    m_Tree->tree.accelerate_distance_queries();
+    // Builds the internal search tree now rather than on the first query, and makes every query start near its
+    // answer instead of at an arbitrary primitive. The search tree holds a reference point of every primitive by
+    // default: for the 10 M triangles of a speckled segmentation's marching-cubes surface it took 1.6 GB while
+    // being built and kept 0.56 GB. Every few primitives' points give a start nearly as near; the distance is the
+    // same, since the tree's traversal from any start is exact.
+    const std::size_t stride = std::max<std::size_t>(1, m_Tree->triangles.size() / LargestSearchTreePoints);
+    std::vector<AabbTree::Point_and_primitive_id> referencePoints;
+    referencePoints.reserve(m_Tree->triangles.size() / stride + 1);
+    for (std::size_t index = 0; index < m_Tree->triangles.size(); index += stride)
+    {
+      referencePoints.emplace_back(m_Tree->triangles[index].vertex(0),
+                                   m_Tree->triangles.cbegin() + static_cast<std::ptrdiff_t>(index));
+    }
+    m_Tree->tree.accelerate_distance_queries(referencePoints.cbegin(), referencePoints.cend());
   }
 }
 
