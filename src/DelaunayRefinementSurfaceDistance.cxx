@@ -25,8 +25,11 @@
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
-#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/AABB_primitive.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <boost/iterator/counting_iterator.hpp>
+#include <boost/property_map/property_map.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -46,8 +49,53 @@ namespace
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using CgalPoint = Kernel::Point_3;
 using CgalTriangle = Kernel::Triangle_3;
-using TriangleIterator = std::vector<CgalTriangle>::const_iterator;
-using TrianglePrimitive = CGAL::AABB_triangle_primitive<Kernel, TriangleIterator>;
+
+/** A surface's points and its triangles as indices into them: the tree reads a triangle's corners when it needs
+ * them, rather than keeping three copies of its points (72 bytes a triangle against 12: 0.7 GB for the 10 M
+ * marching-cubes triangles of the k-means tissues on an oblique 0.62 x 0.62 x 1.33 mm grid). */
+struct IndexedTriangles
+{
+  std::vector<CgalPoint>               points;
+  std::vector<std::array<uint32_t, 3>> corners;
+};
+
+/** The triangle of an index (a property map for CGAL's AABB tree). */
+struct TriangleOfIndex
+{
+  using key_type = std::size_t;
+  using value_type = CgalTriangle;
+  using reference = CgalTriangle;
+  using category = boost::readable_property_map_tag;
+
+  const IndexedTriangles * triangles{ nullptr };
+
+  friend CgalTriangle
+  get(const TriangleOfIndex & map, std::size_t index)
+  {
+    const std::array<uint32_t, 3> & corners = map.triangles->corners[index];
+    return { map.triangles->points[corners[0]], map.triangles->points[corners[1]], map.triangles->points[corners[2]] };
+  }
+};
+
+/** The reference point of a triangle, its first corner (a property map for CGAL's AABB tree). */
+struct FirstCornerOfIndex
+{
+  using key_type = std::size_t;
+  using value_type = CgalPoint;
+  using reference = const CgalPoint &;
+  using category = boost::readable_property_map_tag;
+
+  const IndexedTriangles * triangles{ nullptr };
+
+  friend const CgalPoint &
+  get(const FirstCornerOfIndex & map, std::size_t index)
+  {
+    return map.triangles->points[map.triangles->corners[index][0]];
+  }
+};
+
+using TrianglePrimitive =
+  CGAL::AABB_primitive<std::size_t, TriangleOfIndex, FirstCornerOfIndex, CGAL::Tag_true, CGAL::Tag_false>;
 using AabbTree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, TrianglePrimitive>>;
 
 CgalPoint
@@ -189,11 +237,11 @@ SummarizePercentile95(double * begin, double * end, DistanceStatistics & statist
 
 } // namespace
 
-/** The triangles must outlive the tree, which keeps iterators into them: both live here, triangles first. */
+/** The triangles must outlive the tree, whose property maps point to them: both live here, triangles first. */
 struct TriangleSurfaceDistance::Tree
 {
-  std::vector<CgalTriangle> triangles;
-  AabbTree                  tree;
+  IndexedTriangles triangles;
+  AabbTree         tree;
 };
 
 TriangleSurfaceDistance::TriangleSurfaceDistance(const std::vector<Vector3> &                 points,
@@ -201,31 +249,35 @@ TriangleSurfaceDistance::TriangleSurfaceDistance(const std::vector<Vector3> &   
   : m_Tree(std::make_unique<Tree>())
 {
   CheckTriangleIndices("TriangleSurfaceDistance", points, triangles);
-  m_Tree->triangles.reserve(triangles.size());
-  for (const auto & triangle : triangles)
+  if (triangles.empty())
   {
-    m_Tree->triangles.emplace_back(
-      ToCgal(points[triangle[0]]), ToCgal(points[triangle[1]]), ToCgal(points[triangle[2]]));
+    return;
   }
-  if (!m_Tree->triangles.empty())
+  IndexedTriangles & indexed = m_Tree->triangles;
+  indexed.points.reserve(points.size());
+  for (const Vector3 & point : points)
   {
-    m_Tree->tree.insert(m_Tree->triangles.cbegin(), m_Tree->triangles.cend());
-    m_Tree->tree.build();
-    // Builds the internal search tree now rather than on the first query, and makes every query start near its
-    // answer instead of at an arbitrary primitive. The search tree holds a reference point of every primitive by
-    // default: for the 10 M triangles of a speckled segmentation's marching-cubes surface it took 1.6 GB while
-    // being built and kept 0.56 GB. Every few primitives' points give a start nearly as near; the distance is the
-    // same, since the tree's traversal from any start is exact.
-    const std::size_t stride = std::max<std::size_t>(1, m_Tree->triangles.size() / LargestSearchTreePoints);
-    std::vector<AabbTree::Point_and_primitive_id> referencePoints;
-    referencePoints.reserve(m_Tree->triangles.size() / stride + 1);
-    for (std::size_t index = 0; index < m_Tree->triangles.size(); index += stride)
-    {
-      referencePoints.emplace_back(m_Tree->triangles[index].vertex(0),
-                                   m_Tree->triangles.cbegin() + static_cast<std::ptrdiff_t>(index));
-    }
-    m_Tree->tree.accelerate_distance_queries(referencePoints.cbegin(), referencePoints.cend());
+    indexed.points.push_back(ToCgal(point));
   }
+  indexed.corners = triangles;
+  m_Tree->tree.insert(boost::counting_iterator<std::size_t>(0),
+                      boost::counting_iterator<std::size_t>(triangles.size()),
+                      TriangleOfIndex{ &indexed },
+                      FirstCornerOfIndex{ &indexed });
+  m_Tree->tree.build();
+  // Builds the internal search tree now rather than on the first query, and makes every query start near its
+  // answer instead of at an arbitrary primitive. The search tree holds a reference point of every primitive by
+  // default: for the 10 M triangles of a speckled segmentation's marching-cubes surface it took 1.6 GB while
+  // being built and kept 0.56 GB. Every few primitives' points give a start nearly as near; the distance is the
+  // same, since the tree's traversal from any start is exact.
+  const std::size_t stride = std::max<std::size_t>(1, triangles.size() / LargestSearchTreePoints);
+  std::vector<AabbTree::Point_and_primitive_id> referencePoints;
+  referencePoints.reserve(triangles.size() / stride + 1);
+  for (std::size_t index = 0; index < triangles.size(); index += stride)
+  {
+    referencePoints.emplace_back(get(FirstCornerOfIndex{ &indexed }, index), index);
+  }
+  m_Tree->tree.accelerate_distance_queries(referencePoints.cbegin(), referencePoints.cend());
 }
 
 TriangleSurfaceDistance::~TriangleSurfaceDistance() = default;
@@ -233,7 +285,7 @@ TriangleSurfaceDistance::~TriangleSurfaceDistance() = default;
 double
 TriangleSurfaceDistance::Distance(const Vector3 & query) const
 {
-  if (m_Tree->triangles.empty())
+  if (m_Tree->triangles.corners.empty())
   {
     return std::numeric_limits<double>::infinity();
   }
