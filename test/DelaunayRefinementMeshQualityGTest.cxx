@@ -23,9 +23,12 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <utility>
+#include <vector>
 
 namespace delaunay_refinement
 {
@@ -501,6 +504,96 @@ TEST(TwoSidedDistance, IsNotSymmetricPerSide)
   EXPECT_NEAR(distance.fromFirst.maximum, 0.5, Tolerance);
   EXPECT_NEAR(distance.fromSecond.maximum, 0.0, Tolerance);
   EXPECT_NEAR(distance.combined.maximum, 0.5, Tolerance);
+}
+
+/** A height field z = height(x, y) over [0, 1]², triangulated on a grid whose columns widen along x (the triangles'
+ * sample counts differ, so each one's samples start at a different place). */
+template <typename THeight>
+void
+MakeHeightField(std::size_t columns, std::size_t rows, THeight && height, std::vector<Vector3> & points,
+                Triangles & triangles)
+{
+  for (std::size_t j = 0; j <= rows; ++j)
+  {
+    for (std::size_t i = 0; i <= columns; ++i)
+    {
+      const double u = static_cast<double>(i) / static_cast<double>(columns);
+      const double x = u * u;
+      const double y = static_cast<double>(j) / static_cast<double>(rows);
+      points.push_back({ { x, y, height(x, y) } });
+    }
+  }
+  const auto at = [columns](std::size_t i, std::size_t j) { return static_cast<uint32_t>(i + (columns + 1) * j); };
+  for (std::size_t j = 0; j < rows; ++j)
+  {
+    for (std::size_t i = 0; i < columns; ++i)
+    {
+      triangles.push_back({ { at(i, j), at(i + 1, j), at(i + 1, j + 1) } });
+      triangles.push_back({ { at(i, j), at(i + 1, j + 1), at(i, j + 1) } });
+    }
+  }
+}
+
+/** ComputeTwoSidedDistance measures the samples where it makes them, on several threads, and summarises ranges of
+ * one list: it must give exactly what its parts give one by one (SampleTriangles, TriangleSurfaceDistance,
+ * SummarizeDistances on each direction's list and on the two lists pooled, first then second). */
+TEST(TwoSidedDistance, EqualsItsPartsComputedOneByOne)
+{
+  std::vector<Vector3> firstPoints;
+  Triangles            firstTriangles;
+  MakeHeightField(
+    60,
+    45,
+    [](double x, double y) { return 0.3 * std::sin(3.0 * x) * std::cos(2.0 * y); },
+    firstPoints,
+    firstTriangles);
+  std::vector<Vector3> secondPoints;
+  Triangles            secondTriangles;
+  MakeHeightField(
+    47, 52, [](double x, double y) { return 0.25 + 0.2 * std::cos(2.0 * x + y); }, secondPoints, secondTriangles);
+  const double spacing = 0.01;
+
+  const TriangleSurfaceDistance first(firstPoints, firstTriangles);
+  const TriangleSurfaceDistance second(secondPoints, secondTriangles);
+  std::vector<double>           fromFirst;
+  for (const Vector3 & sample : SampleTriangles(firstPoints, firstTriangles, spacing))
+  {
+    fromFirst.push_back(second.Distance(sample));
+  }
+  std::vector<double> fromSecond;
+  for (const Vector3 & sample : SampleTriangles(secondPoints, secondTriangles, spacing))
+  {
+    fromSecond.push_back(first.Distance(sample));
+  }
+  std::vector<double> pooled(fromFirst);
+  pooled.insert(pooled.end(), fromSecond.begin(), fromSecond.end());
+  // Enough samples for the measurement to run on more than one thread where there are several.
+  ASSERT_GT(pooled.size(), 100000u);
+
+  const TwoSidedDistance distance =
+    ComputeTwoSidedDistance(firstPoints, firstTriangles, secondPoints, secondTriangles, spacing);
+  const std::array<std::pair<DistanceStatistics, DistanceStatistics>, 3> pairs{
+    { { distance.fromFirst, SummarizeDistances(fromFirst) },
+      { distance.fromSecond, SummarizeDistances(fromSecond) },
+      { distance.combined, SummarizeDistances(pooled) } }
+  };
+  for (const auto & [computed, expected] : pairs)
+  {
+    EXPECT_EQ(computed.count, expected.count);
+    EXPECT_EQ(computed.mean, expected.mean);
+    EXPECT_EQ(computed.percentile95, expected.percentile95);
+    EXPECT_EQ(computed.maximum, expected.maximum);
+  }
+  EXPECT_GT(distance.combined.maximum, distance.combined.percentile95);
+  EXPECT_GT(distance.combined.percentile95, distance.combined.mean);
+}
+
+TEST(TwoSidedDistance, InvalidSpacingThrows)
+{
+  const std::vector<Vector3> points{ { { 0.0, 0.0, 0.0 } }, { { 1.0, 0.0, 0.0 } }, { { 0.0, 1.0, 0.0 } } };
+  const Triangles            triangles{ { { 0, 1, 2 } } };
+  EXPECT_THROW(ComputeTwoSidedDistance(points, triangles, points, triangles, 0.0), std::invalid_argument);
+  EXPECT_THROW(ComputeTwoSidedDistance(points, triangles, points, triangles, -1.0), std::invalid_argument);
 }
 
 } // namespace
