@@ -43,6 +43,7 @@
 #include <regex>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #if defined(_WIN32)
@@ -335,33 +336,29 @@ ParseArguments(int argc, char * argv[], Options & options)
 // ---------------------------------------------------------------------------------------------------------------
 // Meshing.
 
-/** Shows a process's progress on stderr while it lives: a bar redrawn in place on a terminal, a line every 10%
- * otherwise (logs and pipes should not fill with carriage returns). */
-class ProgressDisplay
+/** Shows a fraction done on stderr: a bar redrawn in place on a terminal, a line every 10% otherwise (logs and pipes
+ * should not fill with carriage returns). `name` names the bar; `linePrefix` starts each line. */
+class PercentDisplay
 {
 public:
-  ProgressDisplay(itk::ProcessObject * process, bool onTerminal)
-    : m_Process(process)
+  PercentDisplay(std::string name, std::string linePrefix, bool onTerminal)
+    : m_Name(std::move(name))
+    , m_LinePrefix(std::move(linePrefix))
     , m_OnTerminal(onTerminal)
-  {
-    m_Observer =
-      process->AddObserver(itk::ProgressEvent(), [this](const itk::EventObject &) { Show(m_Process->GetProgress()); });
-  }
+  {}
 
-  ~ProgressDisplay()
+  ~PercentDisplay()
   {
-    m_Process->RemoveObserver(m_Observer);
     if (m_OnTerminal && m_ShownPercent >= 0)
     {
       std::cerr << std::endl;
     }
   }
 
-  ProgressDisplay(const ProgressDisplay &) = delete;
-  ProgressDisplay &
-  operator=(const ProgressDisplay &) = delete;
+  PercentDisplay(const PercentDisplay &) = delete;
+  PercentDisplay &
+  operator=(const PercentDisplay &) = delete;
 
-private:
   void
   Show(double fraction)
   {
@@ -376,19 +373,44 @@ private:
     {
       constexpr int width = 40;
       const int     filled = percent * width / 100;
-      std::cerr << "\rmeshing [" << std::string(filled, '#') << std::string(width - filled, ' ') << "] " << percent
-                << '%' << std::flush;
+      std::cerr << '\r' << m_Name << " [" << std::string(filled, '#') << std::string(width - filled, ' ') << "] "
+                << percent << '%' << std::flush;
     }
     else
     {
-      std::cerr << "progress: " << percent << '%' << std::endl;
+      std::cerr << m_LinePrefix << ": " << percent << '%' << std::endl;
     }
   }
 
+private:
+  std::string m_Name;
+  std::string m_LinePrefix;
+  bool        m_OnTerminal;
+  int         m_ShownPercent{ -1 };
+};
+
+/** Shows a process's progress on stderr while it lives (PercentDisplay; lines "progress: N%"). */
+class ProgressDisplay
+{
+public:
+  ProgressDisplay(itk::ProcessObject * process, bool onTerminal)
+    : m_Process(process)
+    , m_Display("meshing", "progress", onTerminal)
+  {
+    m_Observer = process->AddObserver(itk::ProgressEvent(),
+                                      [this](const itk::EventObject &) { m_Display.Show(m_Process->GetProgress()); });
+  }
+
+  ~ProgressDisplay() { m_Process->RemoveObserver(m_Observer); }
+
+  ProgressDisplay(const ProgressDisplay &) = delete;
+  ProgressDisplay &
+  operator=(const ProgressDisplay &) = delete;
+
+private:
   itk::ProcessObject * m_Process;
-  bool                 m_OnTerminal;
+  PercentDisplay       m_Display;
   unsigned long        m_Observer{ 0 };
-  int                  m_ShownPercent{ -1 };
 };
 
 class Stopwatch
@@ -504,11 +526,23 @@ MeshImage(const Options & options)
     // The reference is the segmentation: the voxels after label selection, merging or the iso-value, before the
     // regularisation at the scale of delta, so that fidelity is measured against the input and a tissue the
     // regularisation removed reads as lost.
+    // The distance can take minutes on a speckled segmentation: its progress is shown as the meshing's is
+    // (lines "distance: N%").
+    std::optional<PercentDisplay>         distanceDisplay;
+    delaunay_refinement::DistanceProgress distanceProgress;
+    if (options.measureDistance && !options.quiet)
+    {
+      distanceDisplay.emplace(
+        "distance", "distance", DelaunayImageToMesh_isatty(DelaunayImageToMesh_fileno(stderr)) != 0);
+      distanceProgress = [&distanceDisplay](double fraction) { distanceDisplay->Show(fraction); };
+    }
     report = delaunay_refinement::ComputeQualityReport(mesh,
                                                        itk::MakeLabelVolume(filter->GetSelectedLabelImage()),
                                                        options.measureDistance
                                                          ? delaunay_refinement::DistanceMeasurement::Measure
-                                                         : delaunay_refinement::DistanceMeasurement::Skip);
+                                                         : delaunay_refinement::DistanceMeasurement::Skip,
+                                                       distanceProgress);
+    distanceDisplay.reset();
     phaseSeconds.emplace_back("report", reportTime.Seconds());
   }
 

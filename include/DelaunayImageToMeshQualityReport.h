@@ -149,12 +149,14 @@ enum class DistanceMeasurement
 /** Measures `mesh` and compares it with `segmentation`, the voxels of the labels that were meshed (every
  * other voxel 0). The distance samples are every vertex of both surfaces and points about the smallest voxel
  * spacing apart on their triangles: the marching-cubes surface has no feature smaller than a voxel, and finer
- * samples would make the report cost more than the meshing. `report.run` is left for the caller to fill.
+ * samples would make the report cost more than the meshing. `distanceProgress`, when given, is told how far the
+ * distance measurement is (ComputeTwoSidedDistance). `report.run` is left for the caller to fill.
  * \throws std::invalid_argument if the mesh arrays are inconsistent (a label missing, a point index out of
  * range) or the segmentation's labels do not match its size. */
 QualityReport
 ComputeQualityReport(const TetrahedralMesh & mesh, const LabelVolume & segmentation,
-                     DistanceMeasurement distance = DistanceMeasurement::Measure);
+                     DistanceMeasurement      distance = DistanceMeasurement::Measure,
+                     const DistanceProgress & distanceProgress = {});
 
 /** Prints the report as a short table of aligned columns, for people. A lost label's row ends with "lost: N
  * component(s), V mm^3" instead of angles and genus, and the summary lists the lost labels. */

@@ -20,6 +20,7 @@
 
 #include "DelaunayRefinementTypes.h"
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -195,11 +196,18 @@ struct TwoSidedDistance
   DistanceStatistics combined;
 };
 
+/** Told the fraction of the samples measured so far, in [0, 1], from the calling thread only: on a speckled
+ * segmentation's marching-cubes surface the measurement takes minutes. */
+using DistanceProgress = std::function<void(double)>;
+
+/** `progress`, when given, is told how far the measurement is (after the search trees are built, which is about a
+ * sixth of the time), ending with 1. */
 DelaunayImageToMesh_EXPORT TwoSidedDistance
 ComputeTwoSidedDistance(const std::vector<Vector3> &                 firstPoints,
                         const std::vector<std::array<uint32_t, 3>> & firstTriangles,
                         const std::vector<Vector3> &                 secondPoints,
-                        const std::vector<std::array<uint32_t, 3>> & secondTriangles, double spacing);
+                        const std::vector<std::array<uint32_t, 3>> & secondTriangles, double spacing,
+                        const DistanceProgress & progress = {});
 
 /** Shortest edge from a vertex of each kind, for Lemma 2 (feature >= δ, free >= ρδ, box >= 2δ). Only edges
  * of the mesh's tetrahedra are seen; +infinity for a kind with no vertex. */

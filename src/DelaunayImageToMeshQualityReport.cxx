@@ -203,15 +203,19 @@ AddLabelQualities(const TetrahedralMesh & mesh, const LabelVolume & segmentation
 }
 
 void
-AddDistanceToMarchingCubes(const TetrahedralMesh & mesh, const LabelVolume & segmentation, QualityReport & report)
+AddDistanceToMarchingCubes(const TetrahedralMesh & mesh, const LabelVolume & segmentation, QualityReport & report,
+                           const DistanceProgress & progress)
 {
   const TriangleSurface reference = ExtractLabelSurfaces(segmentation);
   report.distanceSampleSpacing = *std::min_element(segmentation.spacing.begin(), segmentation.spacing.end());
   report.distanceMeasured = true;
-  report.distanceToMarchingCubes =
-    ComputeTwoSidedDistance(
-      mesh.points, mesh.boundaryTriangles, reference.points, reference.triangles, report.distanceSampleSpacing)
-      .combined;
+  report.distanceToMarchingCubes = ComputeTwoSidedDistance(mesh.points,
+                                                           mesh.boundaryTriangles,
+                                                           reference.points,
+                                                           reference.triangles,
+                                                           report.distanceSampleSpacing,
+                                                           progress)
+                                     .combined;
 }
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -484,7 +488,8 @@ PrintLabelTable(const std::vector<LabelQuality> & labels, std::ostream & out)
 } // namespace
 
 QualityReport
-ComputeQualityReport(const TetrahedralMesh & mesh, const LabelVolume & segmentation, DistanceMeasurement distance)
+ComputeQualityReport(const TetrahedralMesh & mesh, const LabelVolume & segmentation, DistanceMeasurement distance,
+                     const DistanceProgress & distanceProgress)
 {
   CheckInputs(mesh, segmentation);
   QualityReport report;
@@ -495,7 +500,7 @@ ComputeQualityReport(const TetrahedralMesh & mesh, const LabelVolume & segmentat
   AddLabelQualities(mesh, segmentation, report);
   if (distance == DistanceMeasurement::Measure)
   {
-    AddDistanceToMarchingCubes(mesh, segmentation, report);
+    AddDistanceToMarchingCubes(mesh, segmentation, report, distanceProgress);
   }
   return report;
 }

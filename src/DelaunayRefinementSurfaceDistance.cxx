@@ -165,39 +165,55 @@ constexpr std::size_t LargestSearchTreePoints = std::size_t{ 1 } << 20;
 /** Below this many queries per thread, starting a thread costs more than it saves. */
 constexpr std::size_t MinimumQueriesPerThread = 20000;
 
-/** Appends to `distances` the distance to `surface` of every sample of the triangles (SampleTriangles' samples,
- * in its order), on every hardware thread. The samples are made triangle by triangle where they are measured and
- * never kept: on a speckled segmentation's marching-cubes surface they are tens of millions, and the list of them
- * (24 bytes each) and the copies of the distances were 2 GB of the report's 5.8 GB for 73 million samples (the
- * k-means tissues on an oblique 0.62 x 0.62 x 1.33 mm grid at 8 mm). Each triangle's distances go to a fixed place,
- * so the result does not depend on the number of threads. */
-void
-AppendDistancesOfSamples(const std::vector<Vector3> & points, const std::vector<std::array<uint32_t, 3>> & triangles,
-                         double spacing, const TriangleSurfaceDistance & surface, std::vector<double> & distances)
+/** Where each triangle's samples (AppendTriangleSamples) start in a list that holds `before` values already; the
+ * last entry is where they end. */
+std::vector<std::size_t>
+SampleStarts(const std::vector<Vector3> & points, const std::vector<std::array<uint32_t, 3>> & triangles,
+             double spacing, std::size_t before)
 {
-  const auto cornersOf = [&points](const std::array<uint32_t, 3> & triangle) {
-    return std::array<const Vector3 *, 3>{ { &points[triangle[0]], &points[triangle[1]], &points[triangle[2]] } };
-  };
-  // Where each triangle's samples start.
-  std::vector<std::size_t> starts(triangles.size() + 1, distances.size());
+  std::vector<std::size_t> starts(triangles.size() + 1, before);
   for (std::size_t index = 0; index < triangles.size(); ++index)
   {
-    const auto        corners = cornersOf(triangles[index]);
-    const std::size_t n = SubdivisionsOf(*corners[0], *corners[1], *corners[2], spacing);
+    const std::array<uint32_t, 3> & corners = triangles[index];
+    const std::size_t n = SubdivisionsOf(points[corners[0]], points[corners[1]], points[corners[2]], spacing);
     starts[index + 1] = starts[index] + (n + 1) * (n + 2) / 2;
   }
-  distances.resize(starts.back());
-  const std::size_t averageSamples = triangles.empty() ? 1 : (starts.back() - starts.front()) / triangles.size();
+  return starts;
+}
+
+/** How often (in triangles) the calling thread tells its progress. */
+constexpr std::size_t TrianglesPerProgressReport = 4096;
+
+/** Writes to `distances`, at `starts` (SampleStarts), the distance to `surface` of every sample of the triangles
+ * (SampleTriangles' samples, in its order), on every hardware thread. The samples are made triangle by triangle
+ * where they are measured and never kept: on a speckled segmentation's marching-cubes surface they are tens of
+ * millions, and the list of them (24 bytes each) and the copies of the distances were 2 GB of the report's 5.8 GB
+ * for 73 million samples (the k-means tissues on an oblique 0.62 x 0.62 x 1.33 mm grid at 8 mm). Each triangle's
+ * distances go to a fixed place, so the result does not depend on the number of threads. `progress`, when given, is
+ * told the fraction of its own triangles the calling thread has measured (the threads share them evenly). */
+void
+MeasureSamples(const std::vector<Vector3> & points, const std::vector<std::array<uint32_t, 3>> & triangles,
+               double spacing, const std::vector<std::size_t> & starts, const TriangleSurfaceDistance & surface,
+               std::vector<double> & distances, const DistanceProgress & progress)
+{
+  const std::size_t     averageSamples = triangles.empty() ? 1 : (starts.back() - starts.front()) / triangles.size();
+  const std::thread::id callingThread = std::this_thread::get_id();
   detail::ForEachRangeInParallel(triangles.size(),
                                  std::thread::hardware_concurrency(),
                                  MinimumQueriesPerThread / std::max<std::size_t>(averageSamples, 1),
                                  [&](std::size_t begin, std::size_t end) {
+                                   const bool           tells = progress && std::this_thread::get_id() == callingThread;
                                    std::vector<Vector3> samples;
                                    for (std::size_t index = begin; index < end; ++index)
                                    {
-                                     const auto corners = cornersOf(triangles[index]);
+                                     if (tells && (index - begin) % TrianglesPerProgressReport == 0)
+                                     {
+                                       progress(static_cast<double>(index - begin) / static_cast<double>(end - begin));
+                                     }
+                                     const std::array<uint32_t, 3> & corners = triangles[index];
                                      samples.clear();
-                                     AppendTriangleSamples(*corners[0], *corners[1], *corners[2], spacing, samples);
+                                     AppendTriangleSamples(
+                                       points[corners[0]], points[corners[1]], points[corners[2]], spacing, samples);
                                      for (std::size_t sample = 0; sample < samples.size(); ++sample)
                                      {
                                        distances[starts[index] + sample] = surface.Distance(samples[sample]);
@@ -319,16 +335,41 @@ TwoSidedDistance
 ComputeTwoSidedDistance(const std::vector<Vector3> &                 firstPoints,
                         const std::vector<std::array<uint32_t, 3>> & firstTriangles,
                         const std::vector<Vector3> &                 secondPoints,
-                        const std::vector<std::array<uint32_t, 3>> & secondTriangles, double spacing)
+                        const std::vector<std::array<uint32_t, 3>> & secondTriangles, double spacing,
+                        const DistanceProgress & progress)
 {
   CheckSampleSpacing("ComputeTwoSidedDistance", spacing);
   const TriangleSurfaceDistance first(firstPoints, firstTriangles);
   const TriangleSurfaceDistance second(secondPoints, secondTriangles);
   // One list: the first's distances, then the second's, which is the pooled list the combined statistics read.
-  std::vector<double> pooled;
-  AppendDistancesOfSamples(firstPoints, firstTriangles, spacing, second, pooled);
-  const std::size_t fromFirst = pooled.size();
-  AppendDistancesOfSamples(secondPoints, secondTriangles, spacing, first, pooled);
+  const std::vector<std::size_t> firstStarts = SampleStarts(firstPoints, firstTriangles, spacing, 0);
+  const std::vector<std::size_t> secondStarts =
+    SampleStarts(secondPoints, secondTriangles, spacing, firstStarts.back());
+  std::vector<double> pooled(secondStarts.back());
+  const std::size_t   fromFirst = firstStarts.back();
+  // Each direction's part of the progress is its share of the samples.
+  const double total = static_cast<double>(std::max<std::size_t>(pooled.size(), 1));
+  const auto   partOfTheProgress = [&progress, total](std::size_t before, std::size_t samples) -> DistanceProgress {
+    if (!progress)
+    {
+      return {};
+    }
+    return [&progress, total, before, samples](double fraction) {
+      progress((static_cast<double>(before) + fraction * static_cast<double>(samples)) / total);
+    };
+  };
+  MeasureSamples(firstPoints, firstTriangles, spacing, firstStarts, second, pooled, partOfTheProgress(0, fromFirst));
+  MeasureSamples(secondPoints,
+                 secondTriangles,
+                 spacing,
+                 secondStarts,
+                 first,
+                 pooled,
+                 partOfTheProgress(fromFirst, pooled.size() - fromFirst));
+  if (progress)
+  {
+    progress(1.0);
+  }
   double * const begin = pooled.data();
   double * const middle = begin + fromFirst;
   double * const end = begin + pooled.size();

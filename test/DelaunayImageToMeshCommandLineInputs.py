@@ -127,6 +127,15 @@ def check_distance_on_request(program, image, output, default_report):
           f"--distance: implausible distances {distance}")
     check((measured["vertices"], measured["tetrahedra"]) == (default_report["vertices"], default_report["tetrahedra"]),
           "--distance changed the mesh")
+    # Not quiet, the distance shows its progress after the meshing's: plain lines when stderr is not a terminal.
+    result = run(program, [image, os.path.join(output, "distance-progress.vtu"), "--delta", "2", "--distance"])
+    check(result.returncode == 0, describe(result))
+    lines = result.stderr.splitlines()
+    meshing = [line for line in lines if re.fullmatch(r"progress: \d{1,3}%", line)]
+    distance = [line for line in lines if re.fullmatch(r"distance: \d{1,3}%", line)]
+    check(len(meshing) + len(distance) == len(lines), f"stderr should be plain progress lines: {describe(result)}")
+    check(distance and lines[-1] == "distance: 100%" and lines.index(distance[0]) > lines.index(meshing[-1]),
+          f"the distance's progress should follow the meshing's and end at 100%: {describe(result)}")
 
 
 def main(program, images, output):

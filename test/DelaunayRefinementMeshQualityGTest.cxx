@@ -23,6 +23,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -586,6 +587,40 @@ TEST(TwoSidedDistance, EqualsItsPartsComputedOneByOne)
   }
   EXPECT_GT(distance.combined.maximum, distance.combined.percentile95);
   EXPECT_GT(distance.combined.percentile95, distance.combined.mean);
+}
+
+/** The progress goes from 0 to 1 without going back, is told several times on a surface of 100,000+ samples, and
+ * does not change what is measured. */
+TEST(TwoSidedDistance, TellsItsProgress)
+{
+  std::vector<Vector3> firstPoints;
+  Triangles            firstTriangles;
+  MakeHeightField(
+    60,
+    45,
+    [](double x, double y) { return 0.3 * std::sin(3.0 * x) * std::cos(2.0 * y); },
+    firstPoints,
+    firstTriangles);
+  std::vector<Vector3> secondPoints;
+  Triangles            secondTriangles;
+  MakeHeightField(
+    47, 52, [](double x, double y) { return 0.25 + 0.2 * std::cos(2.0 * x + y); }, secondPoints, secondTriangles);
+  const double           spacing = 0.01;
+  std::vector<double>    told;
+  const TwoSidedDistance withProgress = ComputeTwoSidedDistance(
+    firstPoints, firstTriangles, secondPoints, secondTriangles, spacing, [&told](double fraction) {
+      told.push_back(fraction);
+    });
+  ASSERT_GE(told.size(), 3u);
+  EXPECT_EQ(told.front(), 0.0);
+  EXPECT_EQ(told.back(), 1.0);
+  EXPECT_TRUE(std::is_sorted(told.begin(), told.end()));
+  EXPECT_TRUE(std::any_of(told.begin(), told.end(), [](double fraction) { return fraction > 0.0 && fraction < 1.0; }));
+  const TwoSidedDistance without =
+    ComputeTwoSidedDistance(firstPoints, firstTriangles, secondPoints, secondTriangles, spacing);
+  EXPECT_EQ(withProgress.combined.mean, without.combined.mean);
+  EXPECT_EQ(withProgress.combined.percentile95, without.combined.percentile95);
+  EXPECT_EQ(withProgress.combined.maximum, without.combined.maximum);
 }
 
 TEST(TwoSidedDistance, InvalidSpacingThrows)
