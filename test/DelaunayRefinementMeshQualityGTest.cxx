@@ -535,23 +535,30 @@ MakeHeightField(std::size_t columns, std::size_t rows, THeight && height, std::v
   }
 }
 
+/** Two height fields over [0, 1]² with 100,000+ samples at spacing 0.01 between them: enough for several threads. */
+struct TwoHeightFields
+{
+  std::vector<Vector3> firstPoints;
+  Triangles            firstTriangles;
+  std::vector<Vector3> secondPoints;
+  Triangles            secondTriangles;
+
+  TwoHeightFields()
+  {
+    const auto wavy = [](double x, double y) { return 0.3 * std::sin(3.0 * x) * std::cos(2.0 * y); };
+    const auto tilted = [](double x, double y) { return 0.25 + 0.2 * std::cos(2.0 * x + y); };
+    MakeHeightField(60, 45, wavy, firstPoints, firstTriangles);
+    MakeHeightField(47, 52, tilted, secondPoints, secondTriangles);
+  }
+};
+
 /** ComputeTwoSidedDistance measures the samples where it makes them, on several threads, and summarises ranges of
  * one list: it must give exactly what its parts give one by one (SampleTriangles, TriangleSurfaceDistance,
  * SummarizeDistances on each direction's list and on the two lists pooled, first then second). */
 TEST(TwoSidedDistance, EqualsItsPartsComputedOneByOne)
 {
-  std::vector<Vector3> firstPoints;
-  Triangles            firstTriangles;
-  MakeHeightField(
-    60,
-    45,
-    [](double x, double y) { return 0.3 * std::sin(3.0 * x) * std::cos(2.0 * y); },
-    firstPoints,
-    firstTriangles);
-  std::vector<Vector3> secondPoints;
-  Triangles            secondTriangles;
-  MakeHeightField(
-    47, 52, [](double x, double y) { return 0.25 + 0.2 * std::cos(2.0 * x + y); }, secondPoints, secondTriangles);
+  const TwoHeightFields fields;
+  const auto & [firstPoints, firstTriangles, secondPoints, secondTriangles] = fields;
   const double spacing = 0.01;
 
   const TriangleSurfaceDistance first(firstPoints, firstTriangles);
@@ -593,18 +600,8 @@ TEST(TwoSidedDistance, EqualsItsPartsComputedOneByOne)
  * does not change what is measured. */
 TEST(TwoSidedDistance, TellsItsProgress)
 {
-  std::vector<Vector3> firstPoints;
-  Triangles            firstTriangles;
-  MakeHeightField(
-    60,
-    45,
-    [](double x, double y) { return 0.3 * std::sin(3.0 * x) * std::cos(2.0 * y); },
-    firstPoints,
-    firstTriangles);
-  std::vector<Vector3> secondPoints;
-  Triangles            secondTriangles;
-  MakeHeightField(
-    47, 52, [](double x, double y) { return 0.25 + 0.2 * std::cos(2.0 * x + y); }, secondPoints, secondTriangles);
+  const TwoHeightFields fields;
+  const auto & [firstPoints, firstTriangles, secondPoints, secondTriangles] = fields;
   const double           spacing = 0.01;
   std::vector<double>    told;
   const TwoSidedDistance withProgress = ComputeTwoSidedDistance(
