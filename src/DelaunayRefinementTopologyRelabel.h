@@ -42,8 +42,7 @@
 #include <array>
 #include <cmath>
 #include <iterator>
-#include <map>
-#include <set>
+#include <limits>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -572,52 +571,63 @@ private:
   MovesAround(VertexHandle vertex, const std::vector<CellHandle> & star) const
   {
     const Triangulation & triangulation = m_State.GetTriangulation();
+    const StarAdjacency   adjacency = AdjacencyOf(vertex, star);
     std::vector<Move>     moves;
-    std::set<Label>       labelsHere;
-    for (const CellHandle cell : star)
+    std::vector<Label>    labelsHere{ UnionKey };
+    for (std::size_t index = 0; index < star.size(); ++index)
     {
-      labelsHere.insert(LabelOf(cell));
+      const CellHandle cell = star[index];
+      labelsHere.push_back(adjacency.labels[index]);
       if (triangulation.is_infinite(cell))
       {
         continue;
       }
-      std::set<Label> candidates;
+      std::array<Label, 4> candidates{};
       for (int facet = 0; facet < 4; ++facet)
       {
-        candidates.insert(LabelOf(cell->neighbor(facet)));
+        candidates[facet] = LabelOf(cell->neighbor(facet));
       }
-      candidates.erase(cell->cache.label);
-      for (const Label candidate : candidates)
+      std::sort(candidates.begin(), candidates.end());
+      const auto last = std::unique(candidates.begin(), candidates.end());
+      for (auto candidate = candidates.begin(); candidate != last; ++candidate)
       {
-        moves.push_back({ { cell }, candidate });
+        if (*candidate != cell->cache.label)
+        {
+          moves.push_back({ { cell }, *candidate });
+        }
       }
     }
-    labelsHere.insert(UnionKey);
+    std::sort(labelsHere.begin(), labelsHere.end());
+    labelsHere.erase(std::unique(labelsHere.begin(), labelsHere.end()), labelsHere.end());
+    std::vector<bool> inside(star.size());
     for (const Label key : labelsHere)
     {
-      const auto inside = [&](CellHandle cell) {
-        return key == UnionKey ? LabelOf(cell) != BackgroundLabel : LabelOf(cell) == key;
-      };
-      for (const std::vector<CellHandle> & group : GroupsAround(vertex, star, inside))
+      const auto isInside = [key](Label label) { return key == UnionKey ? label != BackgroundLabel : label == key; };
+      for (std::size_t index = 0; index < star.size(); ++index)
       {
-        if (std::any_of(group.begin(), group.end(), [&](CellHandle cell) { return triangulation.is_infinite(cell); }))
+        inside[index] = isInside(adjacency.labels[index]);
+      }
+      for (const std::vector<std::size_t> & group : GroupsAround(adjacency, inside))
+      {
+        if (std::any_of(
+              group.begin(), group.end(), [&](std::size_t index) { return triangulation.is_infinite(star[index]); }))
         {
           continue;
         }
-        const bool groupInside = inside(group.front());
+        const bool groupInside = inside[group.front()];
         Label      label = key;
         if (groupInside || key == UnionKey)
         {
-          // The most frequent label beyond the group on the other side.
-          std::map<Label, int> beyond;
-          for (const CellHandle cell : group)
+          // The most frequent label beyond the group on the other side; ties to the smallest label.
+          std::vector<Label> beyond;
+          for (const std::size_t index : group)
           {
             for (int facet = 0; facet < 4; ++facet)
             {
-              const CellHandle neighbor = cell->neighbor(facet);
-              if (inside(neighbor) != groupInside)
+              const Label neighborLabel = LabelOf(star[index]->neighbor(facet));
+              if (isInside(neighborLabel) != groupInside)
               {
-                ++beyond[LabelOf(neighbor)];
+                beyond.push_back(neighborLabel);
               }
             }
           }
@@ -625,45 +635,110 @@ private:
           {
             continue;
           }
-          label = std::max_element(beyond.begin(), beyond.end(), [](const auto & a, const auto & b) {
-                    return a.second < b.second;
-                  })->first;
+          label = MostFrequent(beyond);
         }
-        moves.push_back({ group, label });
+        std::vector<CellHandle> cells;
+        cells.reserve(group.size());
+        for (const std::size_t index : group)
+        {
+          cells.push_back(star[index]);
+        }
+        moves.push_back({ std::move(cells), label });
       }
     }
     return moves;
   }
 
-  /** The star's cells on each side of `inside`, in groups connected through the facets at the vertex; only when
-   * one side has more than one group (the vertex is a pinch of that side). */
-  template <typename TInside>
-  std::vector<std::vector<CellHandle>>
-  GroupsAround(VertexHandle vertex, const std::vector<CellHandle> & star, const TInside & inside) const
+  /** The most frequent of the labels; ties to the smallest. */
+  static Label
+  MostFrequent(std::vector<Label> & labels)
   {
-    std::map<CellHandle, int> groupOf;
+    std::sort(labels.begin(), labels.end());
+    Label       best = labels.front();
+    std::size_t bestCount = 0;
+    for (auto first = labels.begin(); first != labels.end();)
+    {
+      const auto last = std::upper_bound(first, labels.end(), *first);
+      if (static_cast<std::size_t>(last - first) > bestCount)
+      {
+        best = *first;
+        bestCount = static_cast<std::size_t>(last - first);
+      }
+      first = last;
+    }
+    return best;
+  }
+
+  /** A vertex's star as indices: each cell's label, and the star indices of its neighbours through its three
+   * facets at the vertex (NoNeighbor through the facet opposite the vertex). Built once per vertex, for the group
+   * searches of every label (GroupsAround). */
+  struct StarAdjacency
+  {
+    static constexpr std::size_t            NoNeighbor = std::numeric_limits<std::size_t>::max();
+    std::vector<Label>                      labels;
+    std::vector<std::array<std::size_t, 4>> neighbors;
+  };
+
+  StarAdjacency
+  AdjacencyOf(VertexHandle vertex, const std::vector<CellHandle> & star) const
+  {
+    std::vector<std::pair<CellHandle, std::size_t>> byHandle;
+    byHandle.reserve(star.size());
+    for (std::size_t index = 0; index < star.size(); ++index)
+    {
+      byHandle.emplace_back(star[index], index);
+    }
+    std::sort(byHandle.begin(), byHandle.end());
+    StarAdjacency adjacency;
+    adjacency.labels.reserve(star.size());
+    adjacency.neighbors.reserve(star.size());
     for (const CellHandle cell : star)
     {
-      groupOf[cell] = -1;
+      adjacency.labels.push_back(LabelOf(cell));
+      std::array<std::size_t, 4> neighbors{};
+      const int                  own = cell->index(vertex);
+      for (int facet = 0; facet < 4; ++facet)
+      {
+        neighbors[facet] = StarAdjacency::NoNeighbor;
+        if (facet != own)
+        {
+          // A neighbour through a facet at the vertex has the vertex too: it is in the star.
+          const auto found = std::lower_bound(byHandle.begin(),
+                                              byHandle.end(),
+                                              std::make_pair(cell->neighbor(facet), std::size_t{ 0 }),
+                                              [](const auto & a, const auto & b) { return a.first < b.first; });
+          neighbors[facet] = found->second;
+        }
+      }
+      adjacency.neighbors.push_back(neighbors);
     }
-    std::vector<std::vector<CellHandle>> groups;
-    for (const CellHandle seed : star)
+    return adjacency;
+  }
+
+  /** The star's cells (indices) on each side of `inside`, in groups connected through the facets at the vertex;
+   * only when one side has more than one group (the vertex is a pinch of that side). */
+  static std::vector<std::vector<std::size_t>>
+  GroupsAround(const StarAdjacency & adjacency, const std::vector<bool> & inside)
+  {
+    const std::size_t                     size = inside.size();
+    std::vector<int>                      groupOf(size, -1);
+    std::vector<std::vector<std::size_t>> groups;
+    int                                   insideGroups = 0;
+    for (std::size_t seed = 0; seed < size; ++seed)
     {
       if (groupOf[seed] >= 0)
       {
         continue;
       }
-      const bool side = inside(seed);
+      const bool side = inside[seed];
+      insideGroups += side ? 1 : 0;
       groupOf[seed] = static_cast<int>(groups.size());
       groups.push_back({ seed });
       for (std::size_t next = 0; next < groups.back().size(); ++next)
       {
-        const CellHandle cell = groups.back()[next];
-        const int        own = cell->index(vertex);
-        for (int facet = 0; facet < 4; ++facet)
+        for (const std::size_t neighbor : adjacency.neighbors[groups.back()[next]])
         {
-          const CellHandle neighbor = cell->neighbor(facet);
-          if (facet == own || inside(neighbor) != side || groupOf.at(neighbor) >= 0)
+          if (neighbor == StarAdjacency::NoNeighbor || inside[neighbor] != side || groupOf[neighbor] >= 0)
           {
             continue;
           }
@@ -671,11 +746,6 @@ private:
           groups.back().push_back(neighbor);
         }
       }
-    }
-    int insideGroups = 0;
-    for (const auto & group : groups)
-    {
-      insideGroups += inside(group.front()) ? 1 : 0;
     }
     const int outsideGroups = static_cast<int>(groups.size()) - insideGroups;
     if (insideGroups <= 1 && outsideGroups <= 1)
