@@ -380,29 +380,37 @@ private:
   int
   GainOf(const Move & move, int needed) const
   {
-    std::vector<VertexHandle> corners;
+    std::vector<VertexHandle> cornerHandles;
     for (const CellHandle cell : move.cells)
     {
       for (int corner = 0; corner < 4; ++corner)
       {
-        corners.push_back(cell->vertex(corner));
+        cornerHandles.push_back(cell->vertex(corner));
       }
     }
-    std::sort(corners.begin(), corners.end());
-    corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
-    int before = 0;
-    for (const VertexHandle corner : corners)
+    std::sort(cornerHandles.begin(), cornerHandles.end());
+    cornerHandles.erase(std::unique(cornerHandles.begin(), cornerHandles.end()), cornerHandles.end());
+    // Each corner's non-manifold labels, looked up once: the counts below ask for them three times.
+    struct Corner
     {
-      before += static_cast<int>(CurrentNonManifoldLabelsAt(corner).size());
+      VertexHandle               vertex;
+      const std::vector<Label> * nonManifoldLabels;
+    };
+    std::vector<Corner> corners;
+    corners.reserve(cornerHandles.size());
+    int before = 0;
+    for (const VertexHandle vertex : cornerHandles)
+    {
+      corners.push_back({ vertex, &CurrentNonManifoldLabelsAt(vertex) });
+      before += static_cast<int>(corners.back().nonManifoldLabels->size());
     }
     if (before < needed)
     {
       return before;
     }
     // The corners non-manifold now first: a move that does not mend them is rejected after the fewest link tests.
-    std::stable_partition(corners.begin(), corners.end(), [this](VertexHandle corner) {
-      return !CurrentNonManifoldLabelsAt(corner).empty();
-    });
+    std::stable_partition(
+      corners.begin(), corners.end(), [](const Corner & corner) { return !corner.nonManifoldLabels->empty(); });
     // Only the links of the labels the move takes cells from or gives them are tested again at its corners: the
     // others stay as they are (VertexLinks::NonManifoldLabelsAmong).
     std::vector<Label> changing{ move.label };
@@ -416,9 +424,9 @@ private:
     // and one that cannot gain `needed` is rejected before its checks and link tests (k-means tissues at 4 mm: 13 %
     // of the moves that passed the checks, 10 % of the link tests).
     int unchanging = 0;
-    for (const VertexHandle corner : corners)
+    for (const Corner & corner : corners)
     {
-      const std::vector<Label> & labels = CurrentNonManifoldLabelsAt(corner);
+      const std::vector<Label> & labels = *corner.nonManifoldLabels;
       unchanging += static_cast<int>(std::count_if(labels.begin(), labels.end(), [&changing](Label label) {
         return !std::binary_search(changing.begin(), changing.end(), label);
       }));
@@ -454,7 +462,8 @@ private:
       int                   after = unchanging;
       for (std::size_t index = 0; index < corners.size() && before - after >= needed; ++index)
       {
-        after += m_Links.NonManifoldLabelsAmong(triangulation, corners[index], StarOf(corners[index]), changing);
+        const VertexHandle vertex = corners[index].vertex;
+        after += m_Links.NonManifoldLabelsAmong(triangulation, vertex, StarOf(vertex), changing);
       }
       gain = before - after;
     }
