@@ -30,6 +30,7 @@
 #include "DelaunayRefinementGeometry.h"
 #include "DelaunayRefinementBoundaryVertexChecks.h"
 #include "DelaunayRefinementLocalSizingChecks.h"
+#include "DelaunayRefinementManifoldChecks.h"
 #include "DelaunayRefinementMeshQuality.h"
 #include "DelaunayRefinementVoxelPinches.h"
 #include "itkImageRegionConstIteratorWithIndex.h"
@@ -281,6 +282,32 @@ SliverRemovalMayNotEnd(const FilterSettings & settings)
   return settings.minimumDihedralAngle > 0.0 && settings.radiusEdgeBound < 2.0;
 }
 
+/** Whether the case runs issue #14's topology defaults: the regularisation at its default scale, the relabelling,
+ * the topology rounds, the joining of diagonal voxels, and no opt-in halving of δ, on a label image. */
+inline bool
+HasTheTopologyDefaults(const FilterSettings & settings)
+{
+  const FilterSettings defaults;
+  return settings.regularizationScale == defaults.regularizationScale &&
+         settings.relabelNonManifoldPlaces == defaults.relabelNonManifoldPlaces &&
+         settings.topologyRegularizationRounds == defaults.topologyRegularizationRounds &&
+         settings.manifoldRefinementLevels == defaults.manifoldRefinementLevels &&
+         settings.joinDiagonalVoxels == defaults.joinDiagonalVoxels && !settings.isoValue;
+}
+
+/** Whether every boundary of the mesh must be a closed manifold (issue #14's bar): the topology defaults, ρ's
+ * default and σ's default or 0 (the paper's method), and δ at least the largest voxel spacing, where the bar starts.
+ * Elsewhere the filter may leave places it could not mend (the randomized windows find them with δ below a voxel, or
+ * with ρ = 1, or σ above its default), and must report them (CheckManifoldBoundaries). */
+inline bool
+IsPromisedManifold(const FilterSettings & settings, double delta, double largestSpacing)
+{
+  const FilterSettings defaults;
+  return HasTheTopologyDefaults(settings) && settings.radiusEdgeBound == defaults.radiusEdgeBound &&
+         (settings.minimumDihedralAngle == defaults.minimumDihedralAngle || settings.minimumDihedralAngle == 0.0) &&
+         delta >= largestSpacing;
+}
+
 inline std::string
 Describe(const FilterSettings & settings)
 {
@@ -363,6 +390,12 @@ struct RunResult
    * a uniform δ), and R4′'s splits at a point failing its acceptance test. */
   std::size_t nonFeatureBoundaryCorners{ 0 };
   std::size_t sliverSplitsFailingAcceptance{ 0 };
+  /** Of a mesh: the boundaries (each tissue's and the union's) that are not a closed manifold, counted from the mesh
+   * (CountNonManifoldPlaces), and the non-manifold vertices the filter says it left. */
+  std::size_t nonManifoldBoundaries{ 0 };
+  std::size_t admittedNonManifoldVertices{ 0 };
+  /** Whether every boundary had to be a closed manifold (IsPromisedManifold). */
+  bool promisedManifold{ false };
 };
 
 inline std::string
@@ -1140,6 +1173,41 @@ CheckAgainstSegmentation(const TFilter & filter, const FilterSettings & settings
   }
 }
 
+/** Issue #14: every tissue's boundary and the union's is a closed manifold, counted from the mesh without the
+ * library's topology code. Where it is promised (`promised`, IsPromisedManifold) a place is a violation; elsewhere the
+ * filter may leave places it could not mend, but it must say so (RefinementStatistics::remainingNonManifoldVertices),
+ * never leave them silently. */
+inline void
+CheckManifoldBoundaries(const dr::TetrahedralMesh & mesh, const dr::RefinementStatistics & statistics, bool promised,
+                        ViolationList & violations, RunResult & result)
+{
+  std::set<dr::Label> boundaries(mesh.tetrahedronLabels.begin(), mesh.tetrahedronLabels.end());
+  boundaries.insert(dr::BackgroundLabel);
+  std::ostringstream found;
+  for (const dr::Label label : boundaries)
+  {
+    const dr::NonManifoldCount places =
+      dr::CountNonManifoldPlaces(mesh.boundaryTriangles, mesh.boundaryTriangleLabels, label);
+    if (!places.None())
+    {
+      ++result.nonManifoldBoundaries;
+      found << (label == dr::BackgroundLabel ? std::string(" the union's") : " label " + std::to_string(label) + "'s")
+            << " (" << places.edges << " edges, " << places.vertices << " vertices)";
+    }
+  }
+  result.admittedNonManifoldVertices = statistics.remainingNonManifoldVertices;
+  result.promisedManifold = promised;
+  if (result.nonManifoldBoundaries > 0 && promised)
+  {
+    violations.Add("boundaries not a closed manifold with the topology defaults and delta >= the largest spacing:",
+                   found.str());
+  }
+  else if (result.nonManifoldBoundaries > 0 && result.admittedNonManifoldVertices == 0)
+  {
+    violations.Add("boundaries not a closed manifold although the filter says it left none:", found.str());
+  }
+}
+
 /** Every guarantee that holds for the settings, checked on what the filter returned, into `result`. */
 template <typename TFilter, typename TImage>
 void
@@ -1187,6 +1255,12 @@ CheckGuarantees(TFilter & filter, const TImage & image, const FilterSettings & s
   CheckLabels(mesh, tissues, violations);
   CheckCircumcenterLabels(image, filter, settings, tissues, mesh, violations);
   CheckAgainstSegmentation(filter, settings, mesh, violations, result);
+  const auto & spacing = image.GetSpacing();
+  CheckManifoldBoundaries(mesh,
+                          filter.GetRefinementStatistics(),
+                          IsPromisedManifold(settings, delta, std::max({ spacing[0], spacing[1], spacing[2] })),
+                          violations,
+                          result);
   // Issue #15: a tetrahedron flat to rounding is singular for every solver, whatever σ.
   result.flatTetrahedra = delaunay_image_to_mesh_test::CountFlatTetrahedra(mesh);
   if (result.flatTetrahedra > 0)

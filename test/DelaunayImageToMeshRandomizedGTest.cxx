@@ -801,6 +801,12 @@ struct FamilySummary
    * there, CheckBoundaryGuarantees), and how many of them had a forced R4′ split. */
   std::size_t meshesWithFreeBoundaryVertices{ 0 };
   std::size_t meshesWithFreeBoundaryVerticesAndForcedSplits{ 0 };
+  /** Meshes whose every boundary must be a closed manifold (IsPromisedManifold); meshes with a boundary that is not
+   * (CheckManifoldBoundaries: never a promised one, and each admitted by the filter, else the case fails), and of
+   * them those with the topology defaults. */
+  std::size_t meshesPromisedManifold{ 0 };
+  std::size_t meshesNotManifold{ 0 };
+  std::size_t meshesNotManifoldWithTopologyDefaults{ 0 };
 };
 
 /** "median / 95th percentile / 99th percentile / maximum" of some values. */
@@ -843,7 +849,10 @@ PrintSummary(std::ostream & stream, const std::string & title, const FamilySumma
          << summary.lostComponentsAboutADeltaAcross << "\n"
          << "    sigma > 0: meshes with a free vertex on a boundary (Lemma 5 not promised) "
          << summary.meshesWithFreeBoundaryVertices << ", of them with a forced R4' split "
-         << summary.meshesWithFreeBoundaryVerticesAndForcedSplits << "\n";
+         << summary.meshesWithFreeBoundaryVerticesAndForcedSplits << "\n"
+         << "    meshes promised a closed manifold boundary " << summary.meshesPromisedManifold
+         << "; meshes with a boundary not a closed manifold (admitted by the filter) " << summary.meshesNotManifold
+         << ", of them with the topology defaults " << summary.meshesNotManifoldWithTopologyDefaults << "\n";
   for (const auto & entry : summary.outcomes)
   {
     stream << "    " << std::setw(6) << entry.second << "  " << OutcomeName(entry.first) << "\n";
@@ -879,6 +888,9 @@ public:
       total.lostComponentsAboutADeltaAcross += summary.lostComponentsAboutADeltaAcross;
       total.meshesWithFreeBoundaryVertices += summary.meshesWithFreeBoundaryVertices;
       total.meshesWithFreeBoundaryVerticesAndForcedSplits += summary.meshesWithFreeBoundaryVerticesAndForcedSplits;
+      total.meshesPromisedManifold += summary.meshesPromisedManifold;
+      total.meshesNotManifold += summary.meshesNotManifold;
+      total.meshesNotManifoldWithTopologyDefaults += summary.meshesNotManifoldWithTopologyDefaults;
       total.meshToSegmentation.insert(
         total.meshToSegmentation.end(), summary.meshToSegmentation.begin(), summary.meshToSegmentation.end());
       total.segmentationToMesh.insert(
@@ -981,6 +993,12 @@ TEST_P(RandomizedImages, MeshMeetsEveryGuaranteeOrFailsAsDocumented)
         summary.segmentationToMesh.push_back(report.result.segmentationToMesh);
       }
       summary.meshesWithFlatTetrahedra += report.result.flatTetrahedra > 0;
+      summary.meshesPromisedManifold += report.result.promisedManifold;
+      if (report.result.nonManifoldBoundaries > 0)
+      {
+        ++summary.meshesNotManifold;
+        summary.meshesNotManifoldWithTopologyDefaults += HasTheTopologyDefaults(randomCase.settings);
+      }
       summary.smallestDihedralAngle = std::min(summary.smallestDihedralAngle, report.result.smallestDihedralAngle);
     }
     if (report.result.seconds > summary.slowestSeconds)

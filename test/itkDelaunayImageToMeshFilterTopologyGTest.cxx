@@ -22,6 +22,7 @@
 // tissue's boundary and the union's must be closed 2-manifolds, counted here independently of the library's
 // topology code for the edges; every block thick enough must be in the mesh; the quality bounds must hold.
 
+#include "DelaunayRefinementManifoldChecks.h"
 #include "DelaunayRefinementMeshQuality.h"
 #include "itkDelaunayImageToMeshFilter.h"
 #include "itkDelaunayImageToMeshFilterTestHelpers.h"
@@ -30,7 +31,6 @@
 #include <gtest/gtest.h>
 
 #include <iostream>
-#include <map>
 #include <set>
 #include <sstream>
 #include <string>
@@ -180,37 +180,6 @@ MakeHostileImage(HostileShape shape)
   return result;
 }
 
-/** Edges of `label`'s boundary (its triangles against any other label; BackgroundLabel: the union's) that are not in
- * exactly two of its triangles, counted here without the library's topology code. */
-std::size_t
-CountNonManifoldEdges(const dr::TetrahedralMesh & mesh, dr::Label label)
-{
-  std::map<std::pair<uint32_t, uint32_t>, int> trianglesPerEdge;
-  for (std::size_t t = 0; t < mesh.boundaryTriangles.size(); ++t)
-  {
-    const auto & labels = mesh.boundaryTriangleLabels[t];
-    const bool   ofLabel =
-      label == dr::BackgroundLabel ? labels[1] == dr::BackgroundLabel : (labels[0] == label || labels[1] == label);
-    if (!ofLabel)
-    {
-      continue;
-    }
-    const auto & triangle = mesh.boundaryTriangles[t];
-    for (int corner = 0; corner < 3; ++corner)
-    {
-      const uint32_t a = triangle[corner];
-      const uint32_t b = triangle[(corner + 1) % 3];
-      ++trianglesPerEdge[{ std::min(a, b), std::max(a, b) }];
-    }
-  }
-  std::size_t nonManifold = 0;
-  for (const auto & entry : trianglesPerEdge)
-  {
-    nonManifold += entry.second != 2 ? 1 : 0;
-  }
-  return nonManifold;
-}
-
 /** The filter with its defaults on a hostile shape at δ. */
 FilterType::Pointer
 MeshedHostileShape(const HostileImage & hostile, double delta)
@@ -256,8 +225,11 @@ TEST_P(HostileShapes, EveryBoundaryIsAClosedManifoldAndThickBlocksStay)
   {
     SCOPED_TRACE(label == dr::BackgroundLabel ? std::string("the union of the tissues")
                                               : "tissue " + std::to_string(label));
-    const dr::SurfaceTopology topology = dr::ComputeLabelBoundaryTopology(mesh, label);
-    EXPECT_EQ(CountNonManifoldEdges(mesh, label), 0u);
+    const dr::SurfaceTopology  topology = dr::ComputeLabelBoundaryTopology(mesh, label);
+    const dr::NonManifoldCount independent =
+      dr::CountNonManifoldPlaces(mesh.boundaryTriangles, mesh.boundaryTriangleLabels, label);
+    EXPECT_EQ(independent.edges, 0u);
+    EXPECT_EQ(independent.vertices, 0u);
     EXPECT_EQ(topology.nonManifoldEdges, 0u);
     EXPECT_EQ(topology.nonManifoldVertices, 0u);
     summary << " label " << label << ": " << topology.numberOfComponents << " components, genus " << topology.totalGenus
