@@ -9,6 +9,13 @@
 #   drop-smallest        the output drops the tetrahedra of its smallest connected component (when it has several)
 #   vertex-cap-1000      the default vertex cap becomes 1,000 instead of 10,000,000
 #   skip-interface-r3    R3 (the boundary-angle rule) is skipped for interface triangles between two tissues
+#   sliver-rule-skipped  R4' never splits or moves a tetrahedron for its dihedral angle (only flat ones)
+#   link-two-cycles      the manifold test at a vertex takes a link of two cycles (two cones touching at their
+#                        tips) for one, so such pinches are neither found nor mended
+#   relabel-any-angle    the relabelling at non-manifold places puts triangles of any angle on a boundary
+#   no-regularization    the labels are not regularised at the scale of delta, and nothing says so
+#   direction-dropped    the oracle's label image loses the input's direction (identity instead)
+#   report-five-edges    the quality report's dihedral angles skip one of a tetrahedron's six edges
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -24,6 +31,19 @@
 #   skip-interface-r3  14 tests: KmeansTissues.GuaranteesHold and its baseline (counts), HostileShapes
 #                      TwoTissuesAlongAnEdge, seven randomized families (boundary angle <= 30 degrees, circumradius >=
 #                      delta on interfaces), the NumPy check of the CLI meshes (IndependentQuality), the fingerprint
+# The six newer mutations, run on 2026-11-27 (316 tests, about 8 minutes each on 2 cores):
+#   sliver-rule-skipped 40 tests: the core and filter sliver tests, the brain-mask and k-means guarantees and
+#                       baselines, fingerprints, seven randomized families, the command-line quality checks
+#   link-two-cycles     28 tests: the k-means and brain-mask manifold tests, the hostile shapes, the fingerprints; no
+#                       randomized family, which did not check manifoldness then (they do since 898420f)
+#   relabel-any-angle   5 tests: KmeansSlivers, the k-means fingerprint, three randomized families
+#   no-regularization   6 tests: the fingerprints, the k-means baseline, a randomized regression, the stability and
+#                       determinism tests
+#   direction-dropped   35 tests: the physical-space, voxelizer and marching-cubes distance tests, every randomized
+#                       family, the baselines and the command-line tests
+#   report-five-edges   survived: every check of the dihedral angles went through the library's own metric; the
+#                       command-line check now compares the report with its own angles, and the randomized families
+#                       compute σ's bound from the face normals
 # Rerun for two mutations after the relabelling at non-manifold places (issue #14, 4fa555f), with
 # DELAUNAY_MUTATION_CTEST_ARGS="-R KmeansTissues|HostileShapes|RandomizedImages|IndependentQuality|Fingerprint|
 # TwoSpheres|CoreFidelity": skip-interface-r3 caught by 13 tests (KmeansTissues.GuaranteesHold and
@@ -34,7 +54,8 @@ set -euo pipefail
 repository=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 work=${DELAUNAY_MUTATION_DIR:-$(dirname "$repository")/$(basename "$repository")-mutations}
 jobs=${DELAUNAY_MUTATION_JOBS:-$(nproc)}
-all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3)
+all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 sliver-rule-skipped link-two-cycles
+  relabel-any-angle no-regularization direction-dropped report-five-edges)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -127,6 +148,42 @@ apply_mutation() {
         continue;
       }
       const CellHandle neighbor = cell->neighbor(facet);'
+      ;;
+    sliver-rule-skipped)
+      mutate "$tree/src/DelaunayRefinementRules.h" \
+        'return m_DihedralBound.IsSliver(corners) || IsFlatToRounding(corners);' \
+        'return IsFlatToRounding(corners);'
+      ;;
+    link-two-cycles)
+      mutate "$tree/src/DelaunayRefinementVertexLinks.h" \
+        'return current == start && walked == edges;' \
+        'return current == start;'
+      ;;
+    relabel-any-angle)
+      mutate "$tree/src/DelaunayRefinementTopologyRelabel.h" \
+        '        if (!HasPlanarAnglesAbove30Degrees(corners[0], corners[1], corners[2]))
+        {
+          return false;
+        }' \
+        ''
+      ;;
+    no-regularization)
+      mutate "$tree/include/itkImageLabelOracle.hxx" \
+        'if (m_Mapping.regularizationRadius > 0.0 && m_LabelsAreVoxelwise && m_NumberOfObjectVoxels > 0)' \
+        'if (false && m_Mapping.regularizationRadius > 0.0 && m_LabelsAreVoxelwise && m_NumberOfObjectVoxels > 0)'
+      ;;
+    direction-dropped)
+      mutate "$tree/include/itkImageLabelSelection.h" 'labels->SetDirection(image.GetDirection());' ''
+      ;;
+    report-five-edges)
+      mutate "$tree/src/DelaunayRefinementMeshQuality.cxx" \
+        '  for (const auto & edge : TetrahedronEdges)
+  {
+    const double angle = DihedralAngleAtEdge(p, edge[0], edge[1]);' \
+        '  for (std::size_t index = 0; index + 1 < TetrahedronEdges.size(); ++index)
+  {
+    const auto & edge = TetrahedronEdges[index];
+    const double angle = DihedralAngleAtEdge(p, edge[0], edge[1]);'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2
