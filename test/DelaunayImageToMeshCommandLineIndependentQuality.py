@@ -74,20 +74,27 @@ def shortest_edges(corners):
     return lengths.min(axis=1)
 
 
-def smallest_dihedral_angles(corners):
-    """Smallest of the six dihedral angles of each tetrahedron, in degrees, from the face normals: the angle at the
-    edge shared by faces i and j is pi minus the angle between their outward normals."""
+def dihedral_angle_ranges(corners):
+    """Smallest and largest of the six dihedral angles of each tetrahedron, in degrees, from the face normals: the
+    angle at the edge shared by faces i and j is pi minus the angle between their outward normals."""
     faces = [(1, 2, 3), (0, 3, 2), (0, 1, 3), (0, 2, 1)]
     normals = []
     for i, j, k in faces:
         normal = numpy.cross(corners[:, j] - corners[:, i], corners[:, k] - corners[:, i])
         normals.append(normal / numpy.linalg.norm(normal, axis=1)[:, None])
     smallest = numpy.full(len(corners), 180.0)
+    largest = numpy.zeros(len(corners))
     for first in range(4):
         for second in range(first + 1, 4):
             cosine = numpy.clip(-numpy.einsum("ij,ij->i", normals[first], normals[second]), -1.0, 1.0)
-            smallest = numpy.minimum(smallest, numpy.degrees(numpy.arccos(cosine)))
-    return smallest
+            angle = numpy.degrees(numpy.arccos(cosine))
+            smallest = numpy.minimum(smallest, angle)
+            largest = numpy.maximum(largest, angle)
+    return smallest, largest
+
+
+def smallest_dihedral_angles(corners):
+    return dihedral_angle_ranges(corners)[0]
 
 
 def boundary_triangles(tetrahedra, labels):
@@ -116,7 +123,32 @@ def smallest_planar_angles(points, triangles):
     return smallest
 
 
-def check_mesh(path, rho, sigma):
+# How far the report's angles (degrees) and ratios may differ from this script's, computed from the same double
+# precision coordinates by other formulas.
+REPORT_ANGLE_TOLERANCE = 1e-6
+REPORT_RATIO_TOLERANCE = 1e-9
+
+
+def check_report(path, report, ratios, dihedral, planar):
+    """The quality report says what this script finds in the mesh: the extreme dihedral angles, radius-edge ratio and
+    boundary planar angle, and the count of tetrahedra below 5, 10 and 15 degrees (a report that skipped an edge or a
+    tetrahedron would flatter the mesh)."""
+    quality = report["quality"]
+    smallest, largest = dihedral
+    for key, value in (("min_dihedral_angle_deg", smallest.min()), ("max_dihedral_angle_deg", largest.max()),
+                       ("min_boundary_planar_angle_deg", planar.min())):
+        check(abs(quality[key] - value) <= REPORT_ANGLE_TOLERANCE,
+              f"{path}: the report's {key} is {quality[key]}, the mesh's {value}")
+    check(abs(quality["max_radius_edge_ratio"] - ratios.max()) <= REPORT_RATIO_TOLERANCE * ratios.max(),
+          f"{path}: the report's max_radius_edge_ratio is {quality['max_radius_edge_ratio']}, the mesh's "
+          f"{ratios.max()}")
+    for threshold, count in quality["tetrahedra_below_dihedral_deg"].items():
+        below = int(numpy.count_nonzero(smallest < float(threshold)))
+        check(count == below, f"{path}: the report counts {count} tetrahedra below {threshold} degrees, the mesh has "
+              f"{below}")
+
+
+def check_mesh(path, report, rho, sigma):
     points, tetrahedra, labels = read_tetrahedra(path)
     corners = points[tetrahedra]
     radii, volumes = circumradii(corners)
@@ -125,10 +157,12 @@ def check_mesh(path, rho, sigma):
     worst = int(numpy.argmax(ratios))
     check(ratios[worst] < rho, f"{path}: radius-edge ratio {ratios[worst]} >= {rho} at tetrahedron {worst}, corners "
           f"{corners[worst].tolist()}")
-    dihedral = smallest_dihedral_angles(corners)
+    dihedral_ranges = dihedral_angle_ranges(corners)
+    dihedral = dihedral_ranges[0]
     triangles = boundary_triangles(tetrahedra, labels)
     check(len(triangles) > 0, f"{path}: no boundary triangle")
     planar = smallest_planar_angles(points, triangles)
+    check_report(path, report, ratios, dihedral_ranges, planar)
     if sigma > 0.0:
         check(dihedral.min() >= sigma * (1.0 - 1e-9), f"{path}: dihedral angle {dihedral.min()} < sigma {sigma}")
     else:
@@ -158,9 +192,9 @@ def self_test():
 def main(program, image_directory, output_directory):
     self_test()
     for name, image, options, rho, sigma in CASES:
-        mesh_path, _ = mesh_and_report(program, os.path.join(image_directory, image), output_directory, name,
-                                       options=options)
-        print(check_mesh(mesh_path, rho, sigma))
+        mesh_path, report = mesh_and_report(program, os.path.join(image_directory, image), output_directory, name,
+                                            options=options)
+        print(check_mesh(mesh_path, report, rho, sigma))
 
 
 if __name__ == "__main__":

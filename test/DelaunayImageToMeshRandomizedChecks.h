@@ -1234,10 +1234,20 @@ CheckGuarantees(TFilter & filter, const TImage & image, const FilterSettings & s
   }
   if (sigma > 0.0)
   {
-    // R4' promises the dihedral bound; nothing of Theorem 2 is proven then.
-    if (!(quality.minimumDihedralAngle >= sigma * (1.0 - RoundingSlack)))
+    // R4' promises the dihedral bound; nothing of Theorem 2 is proven then. Checked with the angles computed here
+    // from the face normals, and with the library's metric, which must agree.
+    const double smallest = delaunay_image_to_mesh_test::SmallestDihedralAngleFromNormals(mesh);
+    if (!(smallest >= sigma * (1.0 - RoundingSlack)))
     {
-      violations.Add("smallest dihedral angle ", quality.minimumDihedralAngle, " deg < sigma ", sigma, " deg");
+      violations.Add("smallest dihedral angle ", smallest, " deg < sigma ", sigma, " deg");
+    }
+    if (!(std::abs(smallest - quality.minimumDihedralAngle) <= 1e-6))
+    {
+      violations.Add("the library's smallest dihedral angle ",
+                     quality.minimumDihedralAngle,
+                     " deg differs from the face normals' ",
+                     smallest,
+                     " deg");
     }
   }
   // Lemma 2 edge by edge, with the sizing the refinement exported (GetRefinedMesh() has the outputs' points).
