@@ -1216,6 +1216,18 @@ TEST(RandomizedRegression, TheRelabellingLeavesNoRelabelledTetrahedronAlone)
  * Pinned with the relabelling at non-manifold places off: with it (the default) this case happens to keep them,
  * because the voxels' tetrahedra met the rest at non-manifold vertices that the relabelling mends, but nothing in it
  * keeps such components in general. */
+/** Issue #14's manifold promise broken: found by the first search after the families checked manifoldness (seeds
+ * 29,400 on), outside the windows the suite runs. The defaults but σ = 0, δ = 1.13 voxels: the topology repair leaves
+ * 3 non-manifold vertices, which the filter reports. Not understood yet. */
+TEST(RandomizedKnownDefect, ManifoldPromiseBrokenOnTwoSheetsAndThreeLines)
+{
+  const CaseReport report = RunCase(MakeCase(Family::SheetsAndLines, 3029473));
+  ASSERT_EQ(report.result.outcome, Outcome::Mesh);
+  EXPECT_TRUE(report.result.promisedManifold);
+  EXPECT_GT(report.result.admittedNonManifoldVertices, 0u) << "the filter must report what it left";
+  EXPECT_GT(report.result.nonManifoldBoundaries, 0u) << "fixed? remove this test";
+}
+
 TEST(RandomizedKnownDefect, ComponentsADeltaAcrossCanBeLost)
 {
   RandomCase randomCase = MakeRecordedCase(Family::Mixed, 8000038);
