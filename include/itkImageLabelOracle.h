@@ -146,14 +146,20 @@ public:
 private:
   void
   BuildLabelImage(const InputImageType * image);
-  /** The feature transform of the current labels; with `keepSlices`, also m_NearestInterfaceInSlices. */
+  /** The feature transform of the current labels into m_NearestInterfaceVoxel. */
   void
-  BuildNearestInterfaceMap(bool keepSlices);
-  /** The same after labels changed near the given z-slices only (RegularizeAround; each slice within a voxel of a
-   * changed voxel, in increasing order): the passes along x and y stay within a slice, so only those slices' are
-   * redone, from m_NearestInterfaceInSlices, and the pass along z on the columns whose values there changed. The
-   * result is the full build's, bit for bit. The first update builds the whole map again instead, keeping the
-   * slices' values for the updates after it: most images never need them, and they are as large as the map. */
+  BuildNearestInterfaceMap();
+  /** Its passes along x and y only, into m_NearestInterfaceVoxel: each z-slice's own nearest interface voxels. */
+  void
+  BuildNearestInterfaceMapInSlices();
+  /** m_NearestInterfaceInSlices, of the current labels, for UpdateNearestInterfaceMap; the map stays as it is. Made
+   * at the first local regularisation only: most images never need it, and it is as large as the map. */
+  void
+  KeepNearestInterfaceInSlices();
+  /** The map after labels changed near the given z-slices only (RegularizeAround; each slice within a voxel of a
+   * changed voxel, in increasing order), from m_NearestInterfaceInSlices of the labels before the change: the
+   * passes along x and y stay within a slice, so only those slices' are redone, and the pass along z on the columns
+   * whose values there changed. The result is the full build's, bit for bit. */
   void
   UpdateNearestInterfaceMap(const std::vector<SizeValueType> & slices);
   /** Changes the labels in one ball (RegularizeAround); appends each voxel it changes to `changes`. */
@@ -232,7 +238,7 @@ private:
   /** For each voxel of m_LabelImage (by buffer offset), the buffer offset of the nearest interface voxel. */
   delaunay_refinement::LargeVector<uint32_t> m_NearestInterfaceVoxel;
   // The nearest interface voxels after the passes along x and y only (each z-slice's own), from the first local
-  // regularisation on (UpdateNearestInterfaceMap); empty before it.
+  // regularisation on (KeepNearestInterfaceInSlices); empty before it.
   delaunay_refinement::LargeVector<uint32_t> m_NearestInterfaceInSlices;
   /** Buffer offset steps of m_LabelImage along each axis. */
   std::array<SizeValueType, 3>                   m_BufferStrides{};

@@ -28,6 +28,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace itk
 {
@@ -47,7 +48,7 @@ ImageLabelOracle<TInputImage>::ImageLabelOracle(const InputImageType * image, co
   BuildLabelImage(image);
   if (m_NumberOfObjectVoxels > 0)
   {
-    BuildNearestInterfaceMap(false);
+    BuildNearestInterfaceMap();
   }
 }
 
@@ -276,7 +277,15 @@ ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlongLine(unsigned int a
 
 template <typename TInputImage>
 void
-ImageLabelOracle<TInputImage>::BuildNearestInterfaceMap(bool keepSlices)
+ImageLabelOracle<TInputImage>::BuildNearestInterfaceMap()
+{
+  BuildNearestInterfaceMapInSlices();
+  PropagateNearestInterfaceAlongInParallel(2);
+}
+
+template <typename TInputImage>
+void
+ImageLabelOracle<TInputImage>::BuildNearestInterfaceMapInSlices()
 {
   const SizeValueType numberOfVoxels = m_LabelImage->GetBufferedRegion().GetNumberOfPixels();
   if (numberOfVoxels >= std::numeric_limits<uint32_t>::max())
@@ -291,11 +300,16 @@ ImageLabelOracle<TInputImage>::BuildNearestInterfaceMap(bool keepSlices)
     size[2], size[0] * size[1], [this](SizeValueType first, SizeValueType end) { MarkInterfaceVoxels(first, end); });
   PropagateNearestInterfaceAlongInParallel(0);
   PropagateNearestInterfaceAlongInParallel(1);
-  if (keepSlices)
-  {
-    m_NearestInterfaceInSlices = m_NearestInterfaceVoxel;
-  }
-  PropagateNearestInterfaceAlongInParallel(2);
+}
+
+template <typename TInputImage>
+void
+ImageLabelOracle<TInputImage>::KeepNearestInterfaceInSlices()
+{
+  // The passes write m_NearestInterfaceVoxel: the map waits in m_NearestInterfaceInSlices meanwhile.
+  m_NearestInterfaceInSlices.swap(m_NearestInterfaceVoxel);
+  BuildNearestInterfaceMapInSlices();
+  m_NearestInterfaceInSlices.swap(m_NearestInterfaceVoxel);
 }
 
 template <typename TInputImage>
@@ -341,8 +355,8 @@ ImageLabelOracle<TInputImage>::UpdateNearestInterfaceMap(const std::vector<SizeV
   }
   if (m_NearestInterfaceInSlices.empty())
   {
-    BuildNearestInterfaceMap(true);
-    return;
+    throw std::logic_error(
+      "UpdateNearestInterfaceMap: the slices' values were not kept (KeepNearestInterfaceInSlices)");
   }
   const auto &        size = m_LabelImage->GetBufferedRegion().GetSize();
   const SizeValueType sliceSize = size[0] * size[1];
