@@ -58,7 +58,7 @@ repository=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 work=${DELAUNAY_MUTATION_DIR:-$(dirname "$repository")/$(basename "$repository")-mutations}
 jobs=${DELAUNAY_MUTATION_JOBS:-$(nproc)}
 all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 sliver-rule-skipped link-two-cycles
-  relabel-any-angle no-regularization direction-dropped report-five-edges)
+  relabel-any-angle no-regularization direction-dropped report-five-edges map-update-one-slice)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -187,6 +187,11 @@ apply_mutation() {
   {
     const auto & edge = TetrahedronEdges[index];
     const double angle = DihedralAngleAtEdge(p, edge[0], edge[1]);'
+      ;;
+    map-update-one-slice)
+      mutate "$tree/include/itkImageLabelOracleRegularization.hxx" \
+        'for (SizeValueType near = slice > 0 ? slice - 1 : 0; near <= std::min(slice + 1, size[2] - 1); ++near)' \
+        'for (SizeValueType near = slice; near <= slice; ++near)'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2

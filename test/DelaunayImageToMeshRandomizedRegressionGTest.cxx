@@ -351,4 +351,93 @@ TEST(OracleDistance, ClosestSurfacePointIsAnInterfaceFaceCentreWithinTheProvenBo
   EXPECT_GT(queriesAmongVoxelCentres, 1500u);
   EXPECT_GT(queriesNearTheLabelImage, 1500u);
 }
+/** After RegularizeAround(), the oracle answers as one made from its labels: its nearest-interface map is updated
+ * in the z-slices next to a changed voxel and on the columns whose values there changed, from each slice's values of
+ * the labels before the change, which the first call makes from the labels with its own changes undone. A wrong
+ * slice, column or starting value leaves a stale nearest interface voxel somewhere. Three calls per image (the first
+ * one's path and the later ones' differ), on anisotropic, rotated grids; a voxel of label 1 at two opposite corners,
+ * which no ball reaches, keeps the object's box, so that both oracles crop the same grid and break ties alike. */
+TEST(OracleDistance, LocalRegularizationAnswersAsAnOracleOfTheNewLabels)
+{
+  using ImageType = itk::Image<unsigned char, 3>;
+  using LabelImageType = itk::ImageLabelOracle<ImageType>::LabelImageType;
+  CaseRandom  random(20261127);
+  std::size_t callsThatChangedVoxels = 0;
+  for (int imageNumber = 0; imageNumber < 30; ++imageNumber)
+  {
+    const std::array<itk::SizeValueType, 3> size{ static_cast<itk::SizeValueType>(random.Integer(7, 14)),
+                                                  static_cast<itk::SizeValueType>(random.Integer(7, 14)),
+                                                  static_cast<itk::SizeValueType>(random.Integer(7, 14)) };
+    const std::array<double, 3> spacing{ random.Uniform(0.5, 2.0), random.Uniform(0.5, 2.0), random.Uniform(0.5, 2.0) };
+    const std::array<double, 3> origin{ random.Uniform(-5.0, 5.0), random.Uniform(-5.0, 5.0), 3.0 };
+    const double                density = random.Uniform(0.3, 0.7);
+    const std::size_t           lastVoxel = size[0] * size[1] * size[2] - 1;
+    auto                        image =
+      MakeImageInSpace<ImageType>(size, { 1, -2, 0 }, spacing, origin, random.Rotation(), [&](std::size_t voxel) {
+        if (voxel == 0 || voxel == lastVoxel)
+        {
+          return static_cast<unsigned char>(1);
+        }
+        return static_cast<unsigned char>(random.Chance(density) ? 1 + random.Integer(0, 1) : 0);
+      });
+    auto interpolator = itk::NearestNeighborInterpolateImageFunction<ImageType, double>::New();
+    interpolator->SetInputImage(image);
+    itk::ImageLabelOracle<ImageType> oracle(image, interpolator, itk::ImageLabelMapping{});
+    const double                     smallestSpacing = *std::min_element(spacing.begin(), spacing.end());
+    for (int call = 0; call < 3; ++call)
+    {
+      // Places at voxel centres two voxels or more inside the image, balls of at most 1.5 of the smallest spacing:
+      // the corners' voxels stay.
+      std::vector<dr::NonManifoldPlace> places(static_cast<std::size_t>(random.Integer(1, 3)));
+      for (dr::NonManifoldPlace & place : places)
+      {
+        ImageType::IndexType index;
+        for (unsigned int axis = 0; axis < 3; ++axis)
+        {
+          index[axis] =
+            image->GetBufferedRegion().GetIndex()[axis] + random.Integer(2, static_cast<int>(size[axis]) - 3);
+        }
+        ImageType::PointType point;
+        image->TransformIndexToPhysicalPoint(index, point);
+        place.point = { point[0], point[1], point[2] };
+        place.label = static_cast<dr::Label>(random.Integer(0, 2));
+      }
+      const std::size_t changedBefore = oracle.GetNumberOfLocallyRegularizedVoxels();
+      oracle.RegularizeAround(places, random.Uniform(0.8, 1.5) * smallestSpacing);
+      callsThatChangedVoxels += oracle.GetNumberOfLocallyRegularizedVoxels() > changedBefore;
+
+      const LabelImageType * labels = oracle.GetLabelImage();
+      auto                   fresh = itk::NearestNeighborInterpolateImageFunction<LabelImageType, double>::New();
+      fresh->SetInputImage(labels);
+      const itk::ImageLabelOracle<LabelImageType> reference(labels, fresh, itk::ImageLabelMapping{});
+      ASSERT_EQ(reference.GetLabelImage()->GetBufferedRegion(), labels->GetBufferedRegion())
+        << "the test's corners no longer keep the grid";
+      for (int queryNumber = 0; queryNumber < 200; ++queryNumber)
+      {
+        itk::ContinuousIndex<double, 3> index;
+        for (unsigned int axis = 0; axis < 3; ++axis)
+        {
+          const double first = static_cast<double>(image->GetBufferedRegion().GetIndex()[axis]);
+          index[axis] = random.Uniform(first - 1.5, first + static_cast<double>(size[axis]) + 0.5);
+        }
+        ImageType::PointType point;
+        image->TransformContinuousIndexToPhysicalPoint(index, point);
+        const dr::Vector3 query{ point[0], point[1], point[2] };
+        SCOPED_TRACE("image " + std::to_string(imageNumber) + ", call " + std::to_string(call) + ", query " +
+                     std::to_string(queryNumber));
+        ASSERT_EQ(oracle.LabelAt(query), reference.LabelAt(query));
+        const dr::SurfacePoint found = oracle.ClosestSurfacePoint(query);
+        const dr::SurfacePoint expected = reference.ClosestSurfacePoint(query);
+        ASSERT_EQ(found.point, expected.point);
+        ASSERT_EQ(found.distance, expected.distance);
+        const dr::SurfaceDistanceBounds bounds = oracle.BoundSurfaceDistance(query);
+        const dr::SurfaceDistanceBounds expectedBounds = reference.BoundSurfaceDistance(query);
+        ASSERT_EQ(bounds.lower, expectedBounds.lower);
+        ASSERT_EQ(bounds.upper, expectedBounds.upper);
+      }
+    }
+  }
+  EXPECT_GT(callsThatChangedVoxels, 45u);
+}
+
 } // namespace
