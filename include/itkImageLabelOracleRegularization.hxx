@@ -221,9 +221,9 @@ ImageLabelOracle<TInputImage>::RegularizeAround(const std::vector<delaunay_refin
   if (m_NearestInterfaceInSlices.empty())
   {
     // The update starts from the slices' values of the labels the map was made of: made with this call's changes
-    // undone. Half the cost of making the whole map again, which the first update did before (its passes along x and
-    // y; the pass along z, the costliest, is redone on the changed columns only): 0.19 of 0.42 s on the k-means
-    // tissues on the 1 mm grid.
+    // undone. About half the cost of making the whole map again, which the first update did before (its marking and
+    // passes along x and y; the pass along z, the costliest, is redone on the changed columns only): 0.23 of 0.42 s
+    // on one thread for the k-means tissues on the 1 mm grid.
     const auto undo = [&] {
       for (auto & [offset, label] : originals)
       {
