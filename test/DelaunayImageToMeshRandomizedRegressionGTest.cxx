@@ -262,6 +262,25 @@ IsWithinHalfAVoxelOf(const itk::ImageRegion<3> & region, const itk::ContinuousIn
   return true;
 }
 
+/** The grid of an oracle test's random image: each axis `fewest` to `most` voxels of `finest` to `coarsest` mm, and
+ * an origin off zero. Braced lists draw in their order: sizes, then spacings, then the origin. */
+struct RandomGrid
+{
+  std::array<itk::SizeValueType, 3> size;
+  std::array<double, 3>             spacing;
+  std::array<double, 3>             origin;
+};
+
+RandomGrid
+DrawGrid(CaseRandom & random, int fewest, int most, double finest, double coarsest)
+{
+  return { { static_cast<itk::SizeValueType>(random.Integer(fewest, most)),
+             static_cast<itk::SizeValueType>(random.Integer(fewest, most)),
+             static_cast<itk::SizeValueType>(random.Integer(fewest, most)) },
+           { random.Uniform(finest, coarsest), random.Uniform(finest, coarsest), random.Uniform(finest, coarsest) },
+           { random.Uniform(-5.0, 5.0), random.Uniform(-5.0, 5.0), 3.0 } };
+}
+
 /** With the nearest-neighbour interpolator, ClosestSurfacePoint returns the centre of an interface face (a point
  * on the surface, never nearer than the nearest face centre) and its distance, on anisotropic, rotated grids with
  * a non-zero region start, inside, outside and far from the object. It is not always the nearest face centre: the
@@ -284,12 +303,8 @@ TEST(OracleDistance, ClosestSurfacePointIsAnInterfaceFaceCentreWithinTheProvenBo
   std::size_t queriesNearTheLabelImage = 0;
   for (int imageNumber = 0; imageNumber < 40; ++imageNumber)
   {
-    const std::array<itk::SizeValueType, 3> size{ static_cast<itk::SizeValueType>(random.Integer(1, 9)),
-                                                  static_cast<itk::SizeValueType>(random.Integer(1, 9)),
-                                                  static_cast<itk::SizeValueType>(random.Integer(1, 9)) };
-    const std::array<double, 3> spacing{ random.Uniform(0.3, 3.0), random.Uniform(0.3, 3.0), random.Uniform(0.3, 3.0) };
-    const std::array<double, 3> origin{ random.Uniform(-5.0, 5.0), random.Uniform(-5.0, 5.0), 3.0 };
-    const double                density = random.Uniform(0.2, 0.8);
+    const auto [size, spacing, origin] = DrawGrid(random, 1, 9, 0.3, 3.0);
+    const double                             density = random.Uniform(0.2, 0.8);
     const std::array<itk::IndexValueType, 3> start{ -1, 2, 0 };
     auto image = MakeImageInSpace<ImageType>(size, start, spacing, origin, random.Rotation(), [&](std::size_t) {
       return static_cast<unsigned char>(random.Chance(density) ? 1 + random.Chance(0.3) : 0);
@@ -365,14 +380,10 @@ TEST(OracleDistance, LocalRegularizationAnswersAsAnOracleOfTheNewLabels)
   std::size_t callsThatChangedVoxels = 0;
   for (int imageNumber = 0; imageNumber < 30; ++imageNumber)
   {
-    const std::array<itk::SizeValueType, 3> size{ static_cast<itk::SizeValueType>(random.Integer(7, 14)),
-                                                  static_cast<itk::SizeValueType>(random.Integer(7, 14)),
-                                                  static_cast<itk::SizeValueType>(random.Integer(7, 14)) };
-    const std::array<double, 3> spacing{ random.Uniform(0.5, 2.0), random.Uniform(0.5, 2.0), random.Uniform(0.5, 2.0) };
-    const std::array<double, 3> origin{ random.Uniform(-5.0, 5.0), random.Uniform(-5.0, 5.0), 3.0 };
-    const double                density = random.Uniform(0.3, 0.7);
-    const std::size_t           lastVoxel = size[0] * size[1] * size[2] - 1;
-    auto                        image =
+    const auto [size, spacing, origin] = DrawGrid(random, 7, 14, 0.5, 2.0);
+    const double      density = random.Uniform(0.3, 0.7);
+    const std::size_t lastVoxel = size[0] * size[1] * size[2] - 1;
+    auto              image =
       MakeImageInSpace<ImageType>(size, { 1, -2, 0 }, spacing, origin, random.Rotation(), [&](std::size_t voxel) {
         if (voxel == 0 || voxel == lastVoxel)
         {
