@@ -630,7 +630,9 @@ NeighbourOffsetsByDistance(double radius, const Vector3 & spacing, const std::ar
   return offsets;
 }
 /** Face-connected components of a label image, found on its runs of equal labels along x (a uniform region is a
- * few long runs, so counting costs about a pass over the labels). */
+ * few long runs, so counting costs about a pass over the labels). The grid is cut into slabs of whole z-slices, one
+ * per thread: each finds its runs and joins those within it, and the slabs' faces are joined after. A component's
+ * root is always its first run (JoinOverlappingRuns), so the result does not depend on the number of threads. */
 class LabelComponents
 {
 public:
@@ -645,62 +647,121 @@ public:
     std::array<long, 3> highest{ { -1, -1, -1 } };
   };
 
-  LabelComponents(const Label * labels, const std::array<std::size_t, 3> & size)
+  /** A slab costs a thread (tens of microseconds to start): a slab of fewer voxels would save less than that. */
+  static constexpr std::size_t MinimumVoxelsPerSlab = std::size_t{ 1 } << 16;
+
+  LabelComponents(const Label * labels, const std::array<std::size_t, 3> & size, unsigned int numberOfThreads)
+    : m_Size(size)
   {
     const std::size_t lines = size[1] * size[2];
-    m_FirstRunOfLine.reserve(lines + 1);
-    m_Runs.reserve(CountRuns(labels, size[0] * lines, size[0]));
-    for (std::size_t line = 0; line < lines; ++line)
+    const std::size_t voxelsPerSlice = size[0] * size[1];
+    const std::size_t slabs = std::max<std::size_t>(
+      1,
+      std::min<std::size_t>(
+        { numberOfThreads, size[2], voxelsPerSlice * size[2] / std::max(voxelsPerSlice, MinimumVoxelsPerSlab) }));
+    // Slab s holds the z-slices [firstSlice[s], firstSlice[s + 1]).
+    std::vector<std::size_t> firstSlice(slabs + 1);
+    for (std::size_t slab = 0; slab <= slabs; ++slab)
     {
-      m_FirstRunOfLine.push_back(m_Runs.size());
-      const std::size_t lineStart = line * size[0];
-      for (std::size_t i = 0; i < size[0];)
+      firstSlice[slab] = size[2] * slab / slabs;
+    }
+    const auto inParallel = [slabs](const auto & work) { detail::ForEachIndexInParallel(slabs, slabs, work, [] {}); };
+    // Each slab writes its runs from its own first run (CountRuns says why they are counted first).
+    std::vector<std::size_t> firstRunOfSlab(slabs + 1, 0);
+    inParallel([&](std::size_t slab) {
+      firstRunOfSlab[slab + 1] = CountRuns(labels + firstSlice[slab] * voxelsPerSlice,
+                                           (firstSlice[slab + 1] - firstSlice[slab]) * voxelsPerSlice,
+                                           size[0]);
+    });
+    std::partial_sum(firstRunOfSlab.begin(), firstRunOfSlab.end(), firstRunOfSlab.begin());
+    m_Runs.resize(firstRunOfSlab[slabs]);
+    m_Parent.resize(firstRunOfSlab[slabs]);
+    m_FirstRunOfLine.resize(lines + 1);
+    m_FirstRunOfLine[lines] = firstRunOfSlab[slabs];
+    std::vector<std::map<Label, Statistics>> statisticsOfSlab(slabs);
+    inParallel([&](std::size_t slab) {
+      const std::size_t firstLine = firstSlice[slab] * size[1];
+      const std::size_t endLine = firstSlice[slab + 1] * size[1];
+      std::size_t       next = firstRunOfSlab[slab];
+      for (std::size_t line = firstLine; line < endLine; ++line)
       {
-        const Label label = labels[lineStart + i];
-        std::size_t end = i + 1;
-        while (end < size[0] && labels[lineStart + end] == label)
+        m_FirstRunOfLine[line] = next;
+        const std::size_t lineStart = line * size[0];
+        for (std::size_t i = 0; i < size[0];)
         {
-          ++end;
+          const Label label = labels[lineStart + i];
+          std::size_t end = i + 1;
+          while (end < size[0] && labels[lineStart + end] == label)
+          {
+            ++end;
+          }
+          m_Runs[next] = { lineStart + i, end - i, label };
+          m_Parent[next] = next;
+          ++next;
+          i = end;
         }
-        m_Runs.push_back({ lineStart + i, end - i, label });
-        i = end;
+      }
+    });
+    // Joins within a slab touch only its runs, but its last line's runs end where the next slab's begin: the runs
+    // of every slab are found first.
+    inParallel([&](std::size_t slab) {
+      const std::size_t firstLine = firstSlice[slab] * size[1];
+      const std::size_t endLine = firstSlice[slab + 1] * size[1];
+      for (std::size_t line = firstLine; line < endLine; ++line)
+      {
+        if (line % size[1] > 0)
+        {
+          JoinOverlappingRuns(line - 1, line);
+        }
+        if (line >= firstLine + size[1])
+        {
+          JoinOverlappingRuns(line - size[1], line);
+        }
+      }
+    });
+    for (std::size_t slab = 1; slab < slabs; ++slab)
+    {
+      const std::size_t firstLine = firstSlice[slab] * size[1];
+      for (std::size_t line = firstLine; line < firstLine + size[1]; ++line)
+      {
+        JoinOverlappingRuns(line - size[1], line);
       }
     }
-    m_FirstRunOfLine.push_back(m_Runs.size());
-    m_Parent.resize(m_Runs.size());
-    std::iota(m_Parent.begin(), m_Parent.end(), std::size_t{ 0 });
-    for (std::size_t line = 0; line < lines; ++line)
-    {
-      const std::size_t j = line % size[1];
-      if (j > 0)
+    // A run is a component's root when it is its own parent: no Find, which would write across slabs.
+    inParallel([&](std::size_t slab) {
+      std::map<Label, Statistics> & statistics = statisticsOfSlab[slab];
+      // Line by line, so that a run's coordinates need no divisions.
+      for (std::size_t line = firstSlice[slab] * size[1]; line < firstSlice[slab + 1] * size[1]; ++line)
       {
-        JoinOverlappingRuns(line - 1, line, size[0]);
-      }
-      if (line >= size[1])
-      {
-        JoinOverlappingRuns(line - size[1], line, size[0]);
-      }
-    }
-    // Line by line, so that a run's coordinates need no divisions.
-    for (std::size_t line = 0; line < lines; ++line)
-    {
-      const long j = static_cast<long>(line % size[1]);
-      const long k = static_cast<long>(line / size[1]);
-      for (std::size_t run = m_FirstRunOfLine[line]; run < m_FirstRunOfLine[line + 1]; ++run)
-      {
-        Statistics & entry = m_Statistics[m_Runs[run].label];
-        const long   i = static_cast<long>(m_Runs[run].start - line * size[0]);
-        entry.lowest[0] = std::min(entry.lowest[0], i);
-        entry.lowest[1] = std::min(entry.lowest[1], j);
-        entry.lowest[2] = std::min(entry.lowest[2], k);
-        entry.highest[0] = std::max(entry.highest[0], i + static_cast<long>(m_Runs[run].length) - 1);
-        entry.highest[1] = std::max(entry.highest[1], j);
-        entry.highest[2] = std::max(entry.highest[2], k);
-        entry.voxels += m_Runs[run].length;
-        if (Find(run) == run)
+        const long j = static_cast<long>(line % size[1]);
+        const long k = static_cast<long>(line / size[1]);
+        for (std::size_t run = m_FirstRunOfLine[line]; run < m_FirstRunOfLine[line + 1]; ++run)
         {
-          ++entry.components;
+          Statistics & entry = statistics[m_Runs[run].label];
+          const long   i = static_cast<long>(m_Runs[run].start - line * size[0]);
+          entry.lowest[0] = std::min(entry.lowest[0], i);
+          entry.lowest[1] = std::min(entry.lowest[1], j);
+          entry.lowest[2] = std::min(entry.lowest[2], k);
+          entry.highest[0] = std::max(entry.highest[0], i + static_cast<long>(m_Runs[run].length) - 1);
+          entry.highest[1] = std::max(entry.highest[1], j);
+          entry.highest[2] = std::max(entry.highest[2], k);
+          entry.voxels += m_Runs[run].length;
+          entry.components += m_Parent[run] == run;
         }
+      }
+    });
+    for (const std::map<Label, Statistics> & statistics : statisticsOfSlab)
+    {
+      for (const auto & [label, ofSlab] : statistics)
+      {
+        Statistics & entry = m_Statistics[label];
+        for (int axis = 0; axis < 3; ++axis)
+        {
+          entry.lowest[axis] = std::min(entry.lowest[axis], ofSlab.lowest[axis]);
+          entry.highest[axis] = std::max(entry.highest[axis], ofSlab.highest[axis]);
+        }
+        entry.voxels += ofSlab.voxels;
+        entry.components += ofSlab.components;
       }
     }
   }
@@ -774,14 +835,15 @@ private:
     return run;
   }
 
-  /** Joins the runs of two neighbouring lines that share a label and overlap along x. */
+  /** Joins the runs of two neighbouring lines that share a label and overlap along x. The root of the union is the
+   * smaller run, so that every component's root is its first run whatever the order of the joins. */
   void
-  JoinOverlappingRuns(std::size_t lineA, std::size_t lineB, std::size_t lineLength)
+  JoinOverlappingRuns(std::size_t lineA, std::size_t lineB)
   {
     std::size_t       a = m_FirstRunOfLine[lineA];
     std::size_t       b = m_FirstRunOfLine[lineB];
-    const std::size_t startA = lineA * lineLength;
-    const std::size_t startB = lineB * lineLength;
+    const std::size_t startA = lineA * m_Size[0];
+    const std::size_t startB = lineB * m_Size[0];
     while (a < m_FirstRunOfLine[lineA + 1] && b < m_FirstRunOfLine[lineB + 1])
     {
       const std::size_t endA = m_Runs[a].start - startA + m_Runs[a].length;
@@ -803,6 +865,7 @@ private:
     }
   }
 
+  std::array<std::size_t, 3>  m_Size;
   LargeVector<Run>            m_Runs;
   LargeVector<std::size_t>    m_FirstRunOfLine;
   LargeVector<std::size_t>    m_Parent;
@@ -836,7 +899,7 @@ public:
     LabelRegularizationReport report;
     report.radius = m_Radius;
     Checkpoint();
-    LabelComponents before(m_Labels, m_Size);
+    LabelComponents before(m_Labels, m_Size, m_NumberOfThreads);
     for (const auto & [label, statistics] : before.PerLabel())
     {
       LabelRegularizationChange & change = ChangeOf(report, label);
@@ -867,7 +930,7 @@ public:
     {
       m_Labels[offset] = label;
     }
-    const LabelComponents after(m_Labels, m_Size);
+    const LabelComponents after(m_Labels, m_Size, m_NumberOfThreads);
     for (auto & change : report.labels)
     {
       const auto found = after.PerLabel().find(change.label);

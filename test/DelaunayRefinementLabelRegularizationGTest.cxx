@@ -31,6 +31,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <random>
 #include <set>
 #include <sstream>
@@ -262,6 +263,96 @@ AllowedLabels(const Grid & grid, double radius)
   return allowed;
 }
 
+/** Face-connected components of each label by flood fill, independent of the library's run-based count: for each
+ * label, the number of its components, and how many of them have no voxel whose label `after` keeps. */
+struct ComponentCount
+{
+  std::size_t components{ 0 };
+  std::size_t lostWhole{ 0 };
+};
+
+std::map<Label, ComponentCount>
+CountComponentsByFloodFill(const Grid & grid, const std::vector<Label> & after)
+{
+  std::map<Label, ComponentCount>  counts;
+  std::vector<bool>                seen(grid.labels.size(), false);
+  std::vector<std::array<long, 3>> stack;
+  const auto                       offsetOf = [&grid](long i, long j, long k) {
+    return static_cast<std::size_t>(i) +
+           grid.size[0] * (static_cast<std::size_t>(j) + grid.size[1] * static_cast<std::size_t>(k));
+  };
+  for (long k = 0; k < static_cast<long>(grid.size[2]); ++k)
+  {
+    for (long j = 0; j < static_cast<long>(grid.size[1]); ++j)
+    {
+      for (long i = 0; i < static_cast<long>(grid.size[0]); ++i)
+      {
+        if (seen[offsetOf(i, j, k)])
+        {
+          continue;
+        }
+        const Label label = grid.At(i, j, k);
+        bool        keepsAVoxel = false;
+        seen[offsetOf(i, j, k)] = true;
+        stack.push_back({ { i, j, k } });
+        while (!stack.empty())
+        {
+          const std::array<long, 3> voxel = stack.back();
+          stack.pop_back();
+          keepsAVoxel = keepsAVoxel || after[offsetOf(voxel[0], voxel[1], voxel[2])] == label;
+          for (int axis = 0; axis < 3; ++axis)
+          {
+            for (const long step : { -1L, 1L })
+            {
+              std::array<long, 3> next = voxel;
+              next[axis] += step;
+              if (next[axis] < 0 || next[axis] >= static_cast<long>(grid.size[axis]) ||
+                  seen[offsetOf(next[0], next[1], next[2])] || grid.At(next[0], next[1], next[2]) != label)
+              {
+                continue;
+              }
+              seen[offsetOf(next[0], next[1], next[2])] = true;
+              stack.push_back(next);
+            }
+          }
+        }
+        ++counts[label].components;
+        counts[label].lostWhole += keepsAVoxel ? 0 : 1;
+      }
+    }
+  }
+  return counts;
+}
+
+/** Every label's counts of components in the report, against flood fills of the labels before and after. */
+void
+ExpectComponentsAsCounted(const LabelRegularizationReport & report, const Grid & before,
+                          const std::vector<Label> & after, const std::string & where)
+{
+  const std::map<Label, ComponentCount> counted = CountComponentsByFloodFill(before, after);
+  const Grid                            regularised{ before.size, before.spacing, after };
+  const std::map<Label, ComponentCount> countedAfter = CountComponentsByFloodFill(regularised, after);
+  for (const LabelRegularizationChange & change : report.labels)
+  {
+    const auto found = counted.find(change.label);
+    const auto foundAfter = countedAfter.find(change.label);
+    EXPECT_EQ(change.componentsBefore, found == counted.end() ? 0 : found->second.components)
+      << where << ", label " << change.label;
+    EXPECT_EQ(change.componentsRemoved, found == counted.end() ? 0 : found->second.lostWhole)
+      << where << ", label " << change.label;
+    EXPECT_EQ(change.componentsAfter, foundAfter == countedAfter.end() ? 0 : foundAfter->second.components)
+      << where << ", label " << change.label;
+  }
+  // Every label of the grid before is in the report.
+  for (const auto & [label, count] : counted)
+  {
+    EXPECT_TRUE(std::any_of(report.labels.begin(),
+                            report.labels.end(),
+                            [label = label](const auto & change) { return change.label == label; }))
+      << where << ", label " << label;
+  }
+}
+
 struct RegularizationCase
 {
   Size    size;
@@ -313,6 +404,8 @@ TEST_P(LabelRegularizationAgainstDefinition, EveryVoxelTakesTheLabelTheDefinitio
       }
       EXPECT_EQ(removedInReport, changed);
       EXPECT_EQ(addedInReport, changed);
+      ExpectComponentsAsCounted(
+        report, grid, labels, "trial " + std::to_string(trial) + ", radius " + std::to_string(radius));
       changedInAll += changed;
     }
   }
@@ -357,7 +450,8 @@ TEST(LabelRegularization, TheNumberOfThreadsDoesNotChangeTheResult)
 {
   // Speckle of every label around two balls, on a grid large enough for several threads: the speckle goes, and
   // the voxels deep in it, far from the balls and from the grid's outside, take the distance transform, whose
-  // passes the threads share.
+  // passes the threads share; the components are counted in slabs of the grid, one per thread, whose faces the
+  // speckle's components cross.
   const Size    size{ { 90, 80, 70 } };
   const Vector3 spacing{ { 0.8, 1.0, 1.2 } };
   Grid          grid{ size, spacing, std::vector<Label>(size[0] * size[1] * size[2], BackgroundLabel) };
@@ -384,12 +478,14 @@ TEST(LabelRegularization, TheNumberOfThreadsDoesNotChangeTheResult)
   const LabelRegularizationReport report = RegularizeLabels(oneThread.data(), size, spacing, 1.5, {}, 1);
   // Most of the speckle changes label: the transform had work to do.
   EXPECT_GT(report.changedVoxels, grid.labels.size() / 2);
-  for (const unsigned int threads : { 2U, 3U, 8U })
+  ExpectComponentsAsCounted(report, grid, oneThread, "1 thread");
+  for (const unsigned int threads : { 2U, 3U, 4U, 8U })
   {
     std::vector<Label>              labels = grid.labels;
     const LabelRegularizationReport threaded = RegularizeLabels(labels.data(), size, spacing, 1.5, {}, threads);
     EXPECT_EQ(labels, oneThread) << threads << " threads";
     EXPECT_EQ(threaded.changedVoxels, report.changedVoxels) << threads << " threads";
+    ExpectComponentsAsCounted(threaded, grid, labels, std::to_string(threads) + " threads");
   }
 }
 
