@@ -531,12 +531,13 @@ private:
 /** The voxels within the ball `rows` (centred on a voxel) of a voxel of `set`: rows along x grow a word at a time,
  * and each row of the ball ORs whole rows into the result. */
 BoxBits
-DilateByBall(const BoxBits & set, const std::vector<BallRow> & rows)
+DilateByBall(BoxBits set, const std::vector<BallRow> & rows)
 {
   const VoxelBox & box = set.Box();
   BoxBits          dilated(box);
-  BoxBits          grown = set;
-  long             widest = 0;
+  // The set grows along x in place: the callers' sets are temporaries.
+  BoxBits & grown = set;
+  long      widest = 0;
   for (const BallRow & row : rows)
   {
     widest = std::max(widest, row.halfWidth);
@@ -1055,10 +1056,17 @@ private:
             }
           }
         }
+        // A word at a time: a read and a write of the word per voxel made this the opening's costliest step.
         const Label * row = m_Labels + GridOffset(box.lower[0] + firstInGrid, j, k);
-        for (long x = firstInGrid; x <= lastInGrid; ++x)
+        for (long x = firstInGrid; x <= lastInGrid;)
         {
-          words[x >> 6] |= static_cast<uint64_t>(row[x - firstInGrid] == label) << (x & 63);
+          const long endOfWord = std::min(lastInGrid + 1, (x | 63) + 1);
+          uint64_t   bits = 0;
+          for (; x < endOfWord; ++x)
+          {
+            bits |= static_cast<uint64_t>(row[x - firstInGrid] == label) << (x & 63);
+          }
+          words[(x - 1) >> 6] |= bits;
         }
       }
     }
@@ -1119,20 +1127,21 @@ private:
   OpenLabel(Label label, const VoxelBox & box, const std::vector<BallRow> & erosionBall,
             const std::vector<BallRow> & dilationBall, VoxelFlags & removed, VoxelOffsets & removedVoxels) const
   {
-    const BoxBits voxels = VoxelsOf(label, box);
-    BoxBits       eroded = DilateByBall(OuterBoundary(voxels), erosionBall);
+    // Each set is made in place from the one before where it can: every copy of a box's bits is fresh memory, and
+    // fresh memory costs a page fault per page (DelaunayRefinementLargeBuffers.h).
+    BoxBits voxels = VoxelsOf(label, box);
+    BoxBits eroded = DilateByBall(OuterBoundary(voxels), erosionBall);
     eroded.Keep(voxels, false);
     if (!eroded.Any())
     {
       return;
     }
-    BoxBits kept = voxels;
-    kept.Keep(eroded, true);
     // The nearest survivor of the erosion has a face neighbour that is not one (as above): the dilation of its
     // survivors next to another voxel is the dilation of all of them, outside them.
-    BoxBits notKept = kept;
+    BoxBits & notKept = voxels;
+    notKept.Keep(eroded, true);
     notKept.Invert();
-    BoxBits lost = eroded;
+    BoxBits & lost = eroded;
     lost.Keep(DilateByBall(OuterBoundary(notKept), dilationBall), true);
     // Reserved at once: growing the list copied it into fresh memory at every doubling (a quarter of the opening's
     // time on the k-means tissues at δ = 18 mm, where whole tissues go).
