@@ -711,6 +711,11 @@ public:
                                            size[0]);
     });
     std::partial_sum(firstRunOfSlab.begin(), firstRunOfSlab.end(), firstRunOfSlab.begin());
+    if (size[0] > std::numeric_limits<RunIndex>::max() || firstRunOfSlab[slabs] > std::numeric_limits<RunIndex>::max())
+    {
+      throw std::length_error("RegularizeLabels: the label image has more than 4294967295 runs of equal labels, or "
+                              "rows of more voxels; the components are counted in 32 bits");
+    }
     m_Runs.resize(firstRunOfSlab[slabs]);
     m_Parent.resize(firstRunOfSlab[slabs]);
     m_FirstRunOfLine.resize(lines + 1);
@@ -732,8 +737,8 @@ public:
           {
             ++end;
           }
-          m_Runs[next] = { lineStart + i, end - i, label };
-          m_Parent[next] = next;
+          m_Runs[next] = { static_cast<RunIndex>(i), static_cast<RunIndex>(end - i), label };
+          m_Parent[next] = static_cast<RunIndex>(next);
           ++next;
           i = end;
         }
@@ -775,7 +780,7 @@ public:
         for (std::size_t run = m_FirstRunOfLine[line]; run < m_FirstRunOfLine[line + 1]; ++run)
         {
           Statistics & entry = statistics[m_Runs[run].label];
-          const long   i = static_cast<long>(m_Runs[run].start - line * size[0]);
+          const long   i = static_cast<long>(m_Runs[run].x);
           entry.lowest[0] = std::min(entry.lowest[0], i);
           entry.lowest[1] = std::min(entry.lowest[1], j);
           entry.lowest[2] = std::min(entry.lowest[2], k);
@@ -815,14 +820,18 @@ public:
   ForEachComponentLostWhole(TKeeps && keeps, TVisit && visit)
   {
     std::vector<bool> keepsAVoxel(m_Runs.size(), false);
-    for (std::size_t run = 0; run < m_Runs.size(); ++run)
+    for (std::size_t line = 0; line + 1 < m_FirstRunOfLine.size(); ++line)
     {
-      for (std::size_t offset = m_Runs[run].start; offset < m_Runs[run].start + m_Runs[run].length; ++offset)
+      for (std::size_t run = m_FirstRunOfLine[line]; run < m_FirstRunOfLine[line + 1]; ++run)
       {
-        if (keeps(offset))
+        const std::size_t start = line * m_Size[0] + m_Runs[run].x;
+        for (std::size_t offset = start; offset < start + m_Runs[run].length; ++offset)
         {
-          keepsAVoxel[Find(run)] = true;
-          break;
+          if (keeps(offset))
+          {
+            keepsAVoxel[Find(run)] = true;
+            break;
+          }
         }
       }
     }
@@ -836,11 +845,17 @@ public:
   }
 
 private:
+  /** Runs and their places along a row in 32 bits: the run list and the parents are the largest buffers of the
+   * regularisation on speckled labels (729,156 runs on the k-means tissues resampled to 1 mm: 23 MB with 64 bits,
+   * 12 MB with 32), and fresh memory costs time (VoxelFlags). */
+  using RunIndex = uint32_t;
+
   struct Run
   {
-    std::size_t start;
-    std::size_t length;
-    Label       label;
+    /** Where the run begins along its row, and its length. */
+    RunIndex x;
+    RunIndex length;
+    Label    label;
   };
 
   /** The number of runs of equal labels along x, lines `lineLength` long: the run list is then written once, into
@@ -877,19 +892,17 @@ private:
   void
   JoinOverlappingRuns(std::size_t lineA, std::size_t lineB)
   {
-    std::size_t       a = m_FirstRunOfLine[lineA];
-    std::size_t       b = m_FirstRunOfLine[lineB];
-    const std::size_t startA = lineA * m_Size[0];
-    const std::size_t startB = lineB * m_Size[0];
+    std::size_t a = m_FirstRunOfLine[lineA];
+    std::size_t b = m_FirstRunOfLine[lineB];
     while (a < m_FirstRunOfLine[lineA + 1] && b < m_FirstRunOfLine[lineB + 1])
     {
-      const std::size_t endA = m_Runs[a].start - startA + m_Runs[a].length;
-      const std::size_t endB = m_Runs[b].start - startB + m_Runs[b].length;
+      const std::size_t endA = std::size_t{ m_Runs[a].x } + m_Runs[a].length;
+      const std::size_t endB = std::size_t{ m_Runs[b].x } + m_Runs[b].length;
       if (m_Runs[a].label == m_Runs[b].label)
       {
         const std::size_t rootA = Find(a);
         const std::size_t rootB = Find(b);
-        m_Parent[std::max(rootA, rootB)] = std::min(rootA, rootB);
+        m_Parent[std::max(rootA, rootB)] = static_cast<RunIndex>(std::min(rootA, rootB));
       }
       if (endA <= endB)
       {
@@ -905,7 +918,7 @@ private:
   std::array<std::size_t, 3>  m_Size;
   LargeVector<Run>            m_Runs;
   LargeVector<std::size_t>    m_FirstRunOfLine;
-  LargeVector<std::size_t>    m_Parent;
+  LargeVector<RunIndex>       m_Parent;
   std::map<Label, Statistics> m_Statistics;
 };
 
