@@ -18,6 +18,8 @@
 #include "DelaunayRefinementVoxelPinches.h"
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
 #include <deque>
 #include <optional>
 #include <unordered_map>
@@ -109,13 +111,14 @@ public:
     {
       for (std::size_t j = 0; j + 1 < m_Size[1]; ++j)
       {
-        std::size_t offset = m_Strides[1] * j + m_Strides[2] * k;
-        for (std::size_t i = 0; i + 1 < m_Size[0]; ++i, ++offset)
+        const std::size_t rowStart = m_Strides[1] * j + m_Strides[2] * k;
+        for (std::size_t i = 0; i + 1 < m_Size[0]; ++i)
         {
           // Most blocks hold one label: a pinch needs two.
-          if (!IsUniform(offset))
+          i = FirstNonUniformBlock(rowStart, i);
+          if (i + 1 < m_Size[0])
           {
-            m_Pending.push_back(offset);
+            m_Pending.push_back(rowStart + i);
             ProcessPending();
           }
         }
@@ -237,6 +240,50 @@ private:
       m_Pending.pop_front();
       CheckCube(cube);
     }
+  }
+
+  /** How many blocks FirstNonUniformBlock() looks at together: their 2 x 2 x (BlocksAtOnce + 1) voxels are compared
+   * without a branch, which the compiler vectorises, and a pass over uniform labels skips them all at once (the
+   * pass over the grid was a fifth of the set-up's regularisation and pinch removal on the brain mask resampled to
+   * 1 mm). */
+  static constexpr std::size_t BlocksAtOnce = 16;
+
+  /** The first block of the row of blocks starting at `rowStart`, from the `first`-th on, that is not uniform, by
+   * its place in the row; m_Size[0] - 1 (past the row's last block) when there is none. */
+  std::size_t
+  FirstNonUniformBlock(std::size_t rowStart, std::size_t first) const
+  {
+    const std::size_t                  blocks = m_Size[0] - 1;
+    const Label *                      row = m_Labels + rowStart;
+    const std::array<const Label *, 4> rows{
+      row, row + m_Strides[1], row + m_Strides[2], row + m_Strides[1] + m_Strides[2]
+    };
+    std::size_t i = first;
+    for (; i + BlocksAtOnce <= blocks; i += BlocksAtOnce)
+    {
+      const Label label = rows[0][i];
+      uint32_t    differs = 0;
+      for (const Label * line : rows)
+      {
+        for (std::size_t voxel = i; voxel <= i + BlocksAtOnce; ++voxel)
+        {
+          differs |= static_cast<uint32_t>(line[voxel] ^ label);
+        }
+      }
+      if (differs != 0)
+      {
+        break;
+      }
+    }
+    // The block is in the chunk the loop above stopped at, or in the row's last, shorter chunk.
+    for (; i < blocks; ++i)
+    {
+      if (!IsUniform(rowStart + i))
+      {
+        return i;
+      }
+    }
+    return blocks;
   }
 
   bool

@@ -161,6 +161,26 @@ TEST(RemoveVoxelPinches, AnEdgeContactGetsOneJoiningVoxel)
   EXPECT_EQ(grid.At(1, 2, 1), BackgroundLabel);
 }
 
+/** The same edge contact at every place along a long row, alone in uniform labels: the pass skips uniform blocks
+ * several at a time along a row, and must stop at the contact wherever it is in such a run, at either of the run's
+ * ends or after the last whole run. */
+TEST(RemoveVoxelPinches, AnEdgeContactAnywhereAlongALongRowIsFound)
+{
+  const std::size_t length = 52;
+  for (std::size_t x = 1; x + 2 < length; ++x)
+  {
+    for (const bool lowerFirst : { true, false })
+    {
+      Grid grid = EmptyGrid({ { length, 4, 3 } });
+      grid.At(x, lowerFirst ? 1 : 2, 1) = 3;
+      grid.At(x + 1, lowerFirst ? 2 : 1, 1) = 3;
+      ASSERT_EQ(CountPinches(grid), 4u) << "x " << x;
+      EXPECT_EQ(RemoveVoxelPinches(grid.labels.data(), grid.size), 1u) << "x " << x;
+      EXPECT_EQ(CountPinches(grid), 0u) << "x " << x;
+    }
+  }
+}
+
 TEST(RemoveVoxelPinches, ACornerContactIsJoinedByAFaceConnectedPath)
 {
   Grid grid = EmptyGrid({ { 4, 4, 4 } });
@@ -295,8 +315,9 @@ TEST(RemoveVoxelPinches, RandomSpeckle)
   for (int gridNumber = 0; gridNumber < 80; ++gridNumber)
   {
     // A border of background, as the function asks (the oracle's label image has one); one voxel inside it at
-    // least, up to twelve.
-    Grid           grid = EmptyGrid({ { 3 + next() % 12, 3 + next() % 12, 3 + next() % 12 } });
+    // least, up to twelve, and up to forty along x: the pass skips uniform blocks sixteen at a time along a row,
+    // and a pinch may be anywhere in such a run or after the last whole one.
+    Grid           grid = EmptyGrid({ { 3 + next() % 40, 3 + next() % 12, 3 + next() % 12 } });
     const uint64_t density = 1 + next() % 8;
     const uint64_t tissues = 1 + next() % 4;
     FillWithSpeckle(grid, density, tissues, next);
