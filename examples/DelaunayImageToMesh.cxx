@@ -537,7 +537,7 @@ MeshImage(const Options & options)
       distanceProgress = [&distanceDisplay](double fraction) { distanceDisplay->Show(fraction); };
     }
     report = delaunay_refinement::ComputeQualityReport(mesh,
-                                                       itk::MakeLabelVolume(filter->GetSelectedLabelImage()),
+                                                       itk::ViewLabelVolume(filter->GetSelectedLabelImage()),
                                                        options.measureDistance
                                                          ? delaunay_refinement::DistanceMeasurement::Measure
                                                          : delaunay_refinement::DistanceMeasurement::Skip,

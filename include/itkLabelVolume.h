@@ -20,18 +20,19 @@
 
 #include "DelaunayImageToMeshSurfaceExtraction.h"
 
-#include "itkImageRegionConstIterator.h"
+#include "itkImage.h"
+
+#include <type_traits>
 
 namespace itk
 {
 
-/** The buffered voxels of a 3-D label image as the ITK-free LabelVolume (values cast to labels), with its
- * physical geometry: the reference that fidelity measurements compare meshes with. */
+/** A LabelVolume with the physical geometry of a 3-D image's buffered region, and no labels yet. */
 template <typename TLabelImage>
 delaunay_refinement::LabelVolume
-MakeLabelVolume(const TLabelImage * image)
+GeometryOfLabelVolume(const TLabelImage * image)
 {
-  static_assert(TLabelImage::ImageDimension == 3, "MakeLabelVolume needs a 3-D image");
+  static_assert(TLabelImage::ImageDimension == 3, "a LabelVolume is made of a 3-D image");
   delaunay_refinement::LabelVolume volume;
   const auto &                     region = image->GetBufferedRegion();
   typename TLabelImage::PointType  origin;
@@ -46,12 +47,20 @@ MakeLabelVolume(const TLabelImage * image)
       volume.direction[axis][column] = image->GetDirection()(axis, column);
     }
   }
-  volume.labels.reserve(region.GetNumberOfPixels());
-  // The region iterator runs x fastest, then y, then z: LabelVolume's order.
-  for (ImageRegionConstIterator<TLabelImage> it(image, region); !it.IsAtEnd(); ++it)
-  {
-    volume.labels.push_back(static_cast<delaunay_refinement::Label>(it.Get()));
-  }
+  return volume;
+}
+
+/** The buffered voxels of a 3-D label image as the ITK-free LabelVolume, with its physical geometry: the reference
+ * that fidelity measurements compare meshes with. The labels are the image's own buffer (LabelVolume::borrowedLabels),
+ * not a copy, so the image must outlive the volume. */
+template <typename TLabelImage>
+delaunay_refinement::LabelVolume
+ViewLabelVolume(const TLabelImage * image)
+{
+  static_assert(std::is_same<typename TLabelImage::PixelType, delaunay_refinement::Label>::value,
+                "ViewLabelVolume needs an image of delaunay_refinement::Label");
+  delaunay_refinement::LabelVolume volume = GeometryOfLabelVolume(image);
+  volume.borrowedLabels = image->GetBufferPointer();
   return volume;
 }
 

@@ -45,8 +45,8 @@ constexpr double HistogramBinWidthDegrees = 2.0;
 void
 CheckInputs(const TetrahedralMesh & mesh, const LabelVolume & segmentation)
 {
-  const std::size_t voxels = segmentation.size[0] * segmentation.size[1] * segmentation.size[2];
-  if (segmentation.labels.size() != voxels)
+  const std::size_t voxels = segmentation.NumberOfVoxels();
+  if (segmentation.borrowedLabels == nullptr && segmentation.labels.size() != voxels)
   {
     throw std::invalid_argument("ComputeQualityReport: the segmentation has " +
                                 std::to_string(segmentation.labels.size()) + " labels for " + std::to_string(voxels) +
@@ -119,9 +119,11 @@ MeasureLabels(const TetrahedralMesh & mesh, const LabelVolume & segmentation)
       static_cast<std::size_t>(std::count(labelAndUse.second.begin(), labelAndUse.second.end(), true));
   }
 
-  const double voxelVolume = VoxelVolume(segmentation);
-  for (const Label label : segmentation.labels)
+  const double        voxelVolume = VoxelVolume(segmentation);
+  const Label * const segmented = segmentation.Labels();
+  for (std::size_t voxel = 0; voxel < segmentation.NumberOfVoxels(); ++voxel)
   {
+    const Label label = segmented[voxel];
     if (label != BackgroundLabel)
     {
       labels[label].segmentedVolume += voxelVolume;

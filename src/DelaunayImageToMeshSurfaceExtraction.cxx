@@ -36,7 +36,7 @@ TriangleSurface
 ExtractLabelSurfaces(const LabelVolume & volume)
 {
   TriangleSurface surface;
-  std::set<Label> labels(volume.labels.begin(), volume.labels.end());
+  std::set<Label> labels(volume.Labels(), volume.Labels() + volume.NumberOfVoxels());
   labels.erase(BackgroundLabel);
   if (labels.empty())
   {

@@ -35,7 +35,7 @@ CountVoxelComponents(const LabelVolume & volume, Label label)
     {
       return BackgroundLabel;
     }
-    return volume.labels[(i - 1) + volume.size[0] * ((j - 1) + volume.size[1] * (k - 1))];
+    return volume.Labels()[(i - 1) + volume.size[0] * ((j - 1) + volume.size[1] * (k - 1))];
   };
   std::vector<bool>                       visited(padded[0] * padded[1] * padded[2], false);
   std::vector<std::array<std::size_t, 3>> front;

@@ -44,7 +44,7 @@ FillPaddedImage(const LabelVolume & volume, vtkImageData * image)
       {
         const std::size_t source = i + volume.size[0] * (j + volume.size[1] * k);
         const std::size_t target = (i + 1) + padded[0] * ((j + 1) + padded[1] * (k + 1));
-        scalars[target] = volume.labels[source];
+        scalars[target] = volume.Labels()[source];
       }
     }
   }

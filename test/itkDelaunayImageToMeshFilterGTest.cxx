@@ -22,9 +22,11 @@
 // is fitted to a measured value.
 
 #include "itkDelaunayImageToMeshFilter.h"
+#include "itkLabelVolume.h"
 #include "itkDelaunayImageToMeshFilterTestHelpers.h"
 #include "itkTetrahedralMeshVoxelizer.h"
 
+#include "DelaunayImageToMeshQualityReport.h"
 #include "DelaunayRefinementBoundaryVertexChecks.h"
 #include "DelaunayRefinementLocalSizingChecks.h"
 
@@ -480,6 +482,40 @@ TEST(PhysicalSpace, ObliqueAnisotropicBallGuarantees)
 // between an inside voxel a and an outside voxel b, and a point p there is within half a voxel diagonal h
 // of both centres, so r - h < |p - c| <= r + h: feature vertices lie within h (plus the bisection tolerance)
 // of the sphere, and ChordalDistanceBound() carries that to the whole boundary.
+// The quality report reads the selected labels through ViewLabelVolume: the image's own buffer, not a copy, in the
+// image's physical space. It must be the segmentation a copy made voxel by voxel is (the test helpers' own
+// LabelVolumeOf), and the report made from it the same: here the oblique, anisotropic ball's, whose selected labels
+// are a cropped region.
+TEST(PhysicalSpace, ViewLabelVolumeIsTheSelectedLabelsWithoutACopy)
+{
+  const auto & filter = MeshedObliqueBall().filter;
+  const auto * selected = filter->GetSelectedLabelImage();
+  ASSERT_NE(selected->GetBufferedRegion().GetIndex(), ObliqueBall().image->GetBufferedRegion().GetIndex())
+    << "the case no longer has a cropped region";
+  const dr::LabelVolume view = itk::ViewLabelVolume(selected);
+  const dr::LabelVolume copy = LabelVolumeOf(*selected, [](double value) { return static_cast<dr::Label>(value); });
+  EXPECT_EQ(view.borrowedLabels, selected->GetBufferPointer());
+  EXPECT_TRUE(view.labels.empty());
+  ASSERT_EQ(view.size, copy.size);
+  ASSERT_EQ(view.NumberOfVoxels(), copy.labels.size());
+  EXPECT_TRUE(std::equal(copy.labels.begin(), copy.labels.end(), view.Labels()));
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    EXPECT_NEAR(view.origin[axis], copy.origin[axis], 1e-9) << "axis " << axis;
+    EXPECT_EQ(view.spacing[axis], copy.spacing[axis]) << "axis " << axis;
+    for (int column = 0; column < 3; ++column)
+    {
+      EXPECT_EQ(view.direction[axis][column], copy.direction[axis][column]) << "axis " << axis;
+    }
+  }
+  const auto json = [&filter](const dr::LabelVolume & segmentation) {
+    std::ostringstream out;
+    dr::WriteQualityReportJson(dr::ComputeQualityReport(filter->GetRefinedMesh(), segmentation), out);
+    return out.str();
+  };
+  EXPECT_EQ(json(view), json(copy));
+}
+
 TEST(PhysicalSpace, ObliqueAnisotropicBallMatchesTheAnalyticSphere)
 {
   const BallInGrid & ball = ObliqueBall();
