@@ -1106,7 +1106,7 @@ private:
             }
           }
         }
-        // A word at a time: a read and a write of the word per voxel made this the opening's costliest step.
+        // A word at a time, filled in a register and stored once, rather than a read and a write of it per voxel.
         const Label * row = m_Labels + GridOffset(box.lower[0] + firstInGrid, j, k);
         for (long x = firstInGrid; x <= lastInGrid;)
         {
