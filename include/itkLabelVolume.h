@@ -27,12 +27,16 @@
 namespace itk
 {
 
-/** A LabelVolume with the physical geometry of a 3-D image's buffered region, and no labels yet. */
+/** The buffered voxels of a 3-D label image as the ITK-free LabelVolume, with its physical geometry: the reference
+ * that fidelity measurements compare meshes with. The labels are the image's own buffer (LabelVolume::borrowedLabels),
+ * not a copy, so the image must outlive the volume. */
 template <typename TLabelImage>
 delaunay_refinement::LabelVolume
-GeometryOfLabelVolume(const TLabelImage * image)
+ViewLabelVolume(const TLabelImage * image)
 {
   static_assert(TLabelImage::ImageDimension == 3, "a LabelVolume is made of a 3-D image");
+  static_assert(std::is_same<typename TLabelImage::PixelType, delaunay_refinement::Label>::value,
+                "ViewLabelVolume needs an image of delaunay_refinement::Label");
   delaunay_refinement::LabelVolume volume;
   const auto &                     region = image->GetBufferedRegion();
   typename TLabelImage::PointType  origin;
@@ -47,19 +51,6 @@ GeometryOfLabelVolume(const TLabelImage * image)
       volume.direction[axis][column] = image->GetDirection()(axis, column);
     }
   }
-  return volume;
-}
-
-/** The buffered voxels of a 3-D label image as the ITK-free LabelVolume, with its physical geometry: the reference
- * that fidelity measurements compare meshes with. The labels are the image's own buffer (LabelVolume::borrowedLabels),
- * not a copy, so the image must outlive the volume. */
-template <typename TLabelImage>
-delaunay_refinement::LabelVolume
-ViewLabelVolume(const TLabelImage * image)
-{
-  static_assert(std::is_same<typename TLabelImage::PixelType, delaunay_refinement::Label>::value,
-                "ViewLabelVolume needs an image of delaunay_refinement::Label");
-  delaunay_refinement::LabelVolume volume = GeometryOfLabelVolume(image);
   volume.borrowedLabels = image->GetBufferPointer();
   return volume;
 }
