@@ -366,6 +366,7 @@ TEST(OracleDistance, ClosestSurfacePointIsAnInterfaceFaceCentreWithinTheProvenBo
   EXPECT_GT(queriesAmongVoxelCentres, 1500u);
   EXPECT_GT(queriesNearTheLabelImage, 1500u);
 }
+
 /** After RegularizeAround(), the oracle answers as one made from its labels: its nearest-interface map is updated
  * in the z-slices next to a changed voxel and on the columns whose values there changed, from each slice's values of
  * the labels before the change, which the first call makes from the labels with its own changes undone. A wrong
