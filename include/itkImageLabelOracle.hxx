@@ -20,7 +20,6 @@
 
 #include "itkImageLabelOracle.h"
 
-#include "itkImageRegionConstIteratorWithIndex.h"
 #include "itkMultiThreaderBase.h"
 #include "itkNearestNeighborInterpolateImageFunction.h"
 
@@ -64,19 +63,31 @@ ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
   IndexType    highest;
   lowest.Fill(NumericTraits<IndexValueType>::max());
   highest.Fill(NumericTraits<IndexValueType>::NonpositiveMin());
-  ImageLabelSelection::Memo memo;
-  for (ImageRegionConstIteratorWithIndex<InputImageType> it(image, buffered); !it.IsAtEnd(); ++it)
-  {
-    if (m_Selection.LabelOfRemembering(static_cast<double>(it.Get()), memo) != delaunay_refinement::BackgroundLabel)
-    {
-      ++m_NumberOfObjectVoxels;
-      for (unsigned int axis = 0; axis < 3; ++axis)
+  ImageLabelSelection::Lookup<typename InputImageType::PixelType> lookup(m_Selection);
+  ImageLabelSelection::ForEachRow(
+    *image, buffered, [&](const auto * row, const IndexType & first, SizeValueType length) {
+      SizeValueType firstObjectVoxel = length;
+      SizeValueType lastObjectVoxel = 0;
+      for (SizeValueType i = 0; i < length; ++i)
       {
-        lowest[axis] = std::min(lowest[axis], it.GetIndex()[axis]);
-        highest[axis] = std::max(highest[axis], it.GetIndex()[axis]);
+        if (lookup(row[i]) != delaunay_refinement::BackgroundLabel)
+        {
+          ++m_NumberOfObjectVoxels;
+          firstObjectVoxel = std::min(firstObjectVoxel, i);
+          lastObjectVoxel = i;
+        }
       }
-    }
-  }
+      if (firstObjectVoxel < length)
+      {
+        lowest[0] = std::min(lowest[0], first[0] + static_cast<IndexValueType>(firstObjectVoxel));
+        highest[0] = std::max(highest[0], first[0] + static_cast<IndexValueType>(lastObjectVoxel));
+        for (unsigned int axis = 1; axis < 3; ++axis)
+        {
+          lowest[axis] = std::min(lowest[axis], first[axis]);
+          highest[axis] = std::max(highest[axis], first[axis]);
+        }
+      }
+    });
   auto kept = buffered;
   if (m_NumberOfObjectVoxels > 0)
   {

@@ -22,13 +22,13 @@
 #include "DelaunayRefinementTypes.h"
 
 #include "itkImage.h"
-#include "itkImageRegionConstIterator.h"
-#include "itkImageRegionIterator.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -107,23 +107,77 @@ public:
     return m_MergeLabels ? 1 : label;
   }
 
-  /** The last value looked up and its label: label images are runs of equal values, a run's label is looked up
-   * once. */
-  struct Memo
+  /** The label of every value of a pixel type, as LabelOf() gives it, without its cost per voxel: 8-bit values
+   * from a table of all 256, others by remembering the last value (label images are runs of equal values). */
+  template <typename TPixel>
+  class Lookup
   {
-    bool      valid{ false };
-    double    value{ 0.0 };
-    LabelType label{ delaunay_refinement::BackgroundLabel };
+  public:
+    explicit Lookup(const ImageLabelSelection & selection)
+      : m_Selection(selection)
+    {
+      if constexpr (UsesTable)
+      {
+        for (unsigned int value = 0; value < m_Table.size(); ++value)
+        {
+          m_Table[value] = selection.LabelOf(static_cast<double>(static_cast<TPixel>(value)));
+        }
+      }
+    }
+
+    LabelType
+    operator()(TPixel value)
+    {
+      if constexpr (UsesTable)
+      {
+        return m_Table[static_cast<unsigned char>(value)];
+      }
+      else
+      {
+        // NaN never equals the last value, and is looked up each time: LabelOf() makes it background.
+        if (!(m_Valid && value == m_LastValue))
+        {
+          m_Valid = true;
+          m_LastValue = value;
+          m_LastLabel = m_Selection.LabelOf(static_cast<double>(value));
+        }
+        return m_LastLabel;
+      }
+    }
+
+  private:
+    static constexpr bool UsesTable = std::is_integral_v<TPixel> && sizeof(TPixel) == 1;
+
+    const ImageLabelSelection & m_Selection;
+    std::array<LabelType, 256>  m_Table{};
+    bool                        m_Valid{ false };
+    TPixel                      m_LastValue{};
+    LabelType                   m_LastLabel{ delaunay_refinement::BackgroundLabel };
   };
 
-  LabelType
-  LabelOfRemembering(double value, Memo & memo) const
+  /** Calls `f(row, first, length)` for each row along x of `region`, which lies inside `image`'s buffered region:
+   * `row` points at the pixel at index `first`, the row's first, followed by the row's other `length` - 1 along x.
+   * A pass over raw rows, where an image iterator's bookkeeping per voxel was most of the cost of selecting the
+   * labels. */
+  template <typename TImage, typename TFunction>
+  static void
+  ForEachRow(TImage & image, const ImageRegion<3> & region, TFunction && f)
   {
-    if (!(memo.valid && value == memo.value))
+    const SizeValueType length = region.GetSize(0);
+    if (region.GetNumberOfPixels() == 0)
     {
-      memo = { true, value, LabelOf(value) };
+      return;
     }
-    return memo.label;
+    for (IndexValueType k = 0; k < static_cast<IndexValueType>(region.GetSize(2)); ++k)
+    {
+      for (IndexValueType j = 0; j < static_cast<IndexValueType>(region.GetSize(1)); ++j)
+      {
+        Index<3> first = region.GetIndex();
+        first[1] += j;
+        first[2] += k;
+        f(image.GetBufferPointer() + image.ComputeOffset(first), first, length);
+      }
+    }
   }
 
   /** A new image over `region`, in the geometry of `image`: each voxel the label of the voxel of `image` there,
@@ -139,16 +193,21 @@ public:
     labels->SetDirection(image.GetDirection());
     labels->Allocate();
     delaunay_refinement::AdviseHugePages(labels->GetBufferPointer(), region.GetNumberOfPixels() * sizeof(LabelType));
-    labels->FillBuffer(delaunay_refinement::BackgroundLabel);
     auto insideImage = region;
     insideImage.Crop(image.GetBufferedRegion());
-    Memo                                  memo;
-    ImageRegionConstIterator<TInputImage> input(&image, insideImage);
-    ImageRegionIterator<LabelImageType>   output(labels, insideImage);
-    for (; !input.IsAtEnd(); ++input, ++output)
+    if (insideImage != region)
     {
-      output.Set(LabelOfRemembering(static_cast<double>(input.Get()), memo));
+      labels->FillBuffer(delaunay_refinement::BackgroundLabel);
     }
+    Lookup<typename TInputImage::PixelType> lookup(*this);
+    LabelImageType &                        output = *labels;
+    ForEachRow(image, insideImage, [&lookup, &output](const auto * row, const Index<3> & first, SizeValueType length) {
+      LabelType * const labelRow = output.GetBufferPointer() + output.ComputeOffset(first);
+      for (SizeValueType i = 0; i < length; ++i)
+      {
+        labelRow[i] = lookup(row[i]);
+      }
+    });
     return labels;
   }
 

@@ -72,7 +72,7 @@ delaunay_add_real_image_test(itkDelaunayImageToMeshFilterKmeansTissuesTest
 
 # ---- GoogleTest ------------------------------------------------------------------------------------------
 if(TARGET DelaunayImageToMeshIO)
-  add_executable(itkDelaunayImageToMeshFilterGTests itkDelaunayImageToMeshFilterGTest.cxx)
+  add_executable(itkDelaunayImageToMeshFilterGTests itkDelaunayImageToMeshFilterGTest.cxx itkImageLabelSelectionGTest.cxx)
   target_link_libraries(itkDelaunayImageToMeshFilterGTests PRIVATE
     DelaunayImageToMesh DelaunayImageToMeshIO ${ITK_LIBRARIES} GTest::gtest_main)
   target_compile_definitions(itkDelaunayImageToMeshFilterGTests PRIVATE

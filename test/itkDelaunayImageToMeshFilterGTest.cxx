@@ -32,6 +32,7 @@
 
 #include "itkCommand.h"
 #include "itkImageFileReader.h"
+#include "itkImageRegionConstIterator.h"
 #include "itkLabelImageGaussianInterpolateImageFunction.h"
 
 #include <gtest/gtest.h>

@@ -1,0 +1,147 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+
+// ImageLabelSelection::SelectedLabelImage reads raw rows and looks labels up from a table (8-bit pixels) or by
+// remembering the last value (others): each voxel must still carry LabelOf(its value), with the geometry of the
+// input, and background where the region leaves the input's buffered region.
+
+#include "itkImageLabelSelection.h"
+
+#include "itkImageRegionConstIteratorWithIndex.h"
+#include "itkImageRegionIterator.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace
+{
+
+/** A 7 x 5 x 4 image starting at index (2, -1, 3), oblique and anisotropic, of values in runs of one to three voxels:
+ * integers spread over 256 values with zeros among them, or for floating-point pixels fractions and a NaN. */
+template <typename TPixel>
+typename itk::Image<TPixel, 3>::Pointer
+ImageOfManyValues()
+{
+  using ImageType = itk::Image<TPixel, 3>;
+  auto                           image = ImageType::New();
+  typename ImageType::RegionType region;
+  region.SetIndex({ { 2, -1, 3 } });
+  region.SetSize({ { 7, 5, 4 } });
+  image->SetRegions(region);
+  typename ImageType::SpacingType spacing;
+  spacing[0] = 0.5;
+  spacing[1] = 1.25;
+  spacing[2] = 2.0;
+  image->SetSpacing(spacing);
+  typename ImageType::PointType origin;
+  origin[0] = -3.0;
+  origin[1] = 4.0;
+  origin[2] = 1.5;
+  image->SetOrigin(origin);
+  typename ImageType::DirectionType direction;
+  direction.SetIdentity();
+  direction(0, 0) = 0.0;
+  direction(0, 1) = 1.0;
+  direction(1, 0) = 1.0;
+  direction(1, 1) = 0.0;
+  image->SetDirection(direction);
+  image->Allocate();
+  std::size_t count = 0;
+  for (itk::ImageRegionIterator<ImageType> it(image, region); !it.IsAtEnd(); ++it, ++count)
+  {
+    // Runs of one to three equal values: the remembered value must change with the run.
+    const auto step = static_cast<int>(count / (1 + count % 3));
+    if constexpr (std::is_floating_point_v<TPixel>)
+    {
+      it.Set(count == 17 ? std::numeric_limits<TPixel>::quiet_NaN() : static_cast<TPixel>(0.75 * (step % 9) - 2.0));
+    }
+    else
+    {
+      // Every fourth run background, the others spread over 256 values (negative ones for signed pixels).
+      const int value = step % 4 == 0 ? 0 : (step * 37) % 256 - (std::is_signed_v<TPixel> ? 128 : 0);
+      it.Set(static_cast<TPixel>(value));
+    }
+  }
+  return image;
+}
+
+template <typename TPixel>
+void
+ExpectEveryVoxelIsLabelOf(const itk::ImageLabelMapping & mapping, const std::string & what)
+{
+  const auto                                           image = ImageOfManyValues<TPixel>();
+  const itk::ImageLabelSelection                       selection(mapping);
+  itk::ImageLabelSelection::LabelImageType::RegionType region = image->GetBufferedRegion();
+  // One voxel of margin on every side: outside the input's buffered region is background.
+  region.PadByRadius(1);
+  const auto labels = selection.SelectedLabelImage(*image, region);
+  ASSERT_EQ(labels->GetBufferedRegion(), region) << what;
+  EXPECT_EQ(labels->GetOrigin(), image->GetOrigin()) << what;
+  EXPECT_EQ(labels->GetSpacing(), image->GetSpacing()) << what;
+  EXPECT_EQ(labels->GetDirection(), image->GetDirection()) << what;
+  std::size_t objectVoxels = 0;
+  for (itk::ImageRegionConstIteratorWithIndex<itk::ImageLabelSelection::LabelImageType> it(labels, region);
+       !it.IsAtEnd();
+       ++it)
+  {
+    const auto & index = it.GetIndex();
+    const auto   expected = image->GetBufferedRegion().IsInside(index)
+                              ? selection.LabelOf(static_cast<double>(image->GetPixel(index)))
+                              : delaunay_refinement::BackgroundLabel;
+    ASSERT_EQ(it.Get(), expected) << what << ", index " << index;
+    objectVoxels += expected != delaunay_refinement::BackgroundLabel ? 1 : 0;
+  }
+  // The case must select some voxels and leave others out, or it tells nothing.
+  EXPECT_GT(objectVoxels, 0u) << what;
+  EXPECT_LT(objectVoxels, image->GetBufferedRegion().GetNumberOfPixels()) << what;
+}
+
+template <typename TPixel>
+void
+ExpectEveryMappingIsLabelOf(const std::string & type)
+{
+  itk::ImageLabelMapping everyLabel;
+  ExpectEveryVoxelIsLabelOf<TPixel>(everyLabel, type + ", every non-zero label");
+  itk::ImageLabelMapping someLabels;
+  someLabels.selectedLabels = { 1, -91, 74, 3, -54 };
+  ExpectEveryVoxelIsLabelOf<TPixel>(someLabels, type + ", selected labels");
+  itk::ImageLabelMapping merged = someLabels;
+  merged.mergeLabels = true;
+  ExpectEveryVoxelIsLabelOf<TPixel>(merged, type + ", selected labels merged");
+  itk::ImageLabelMapping iso;
+  iso.useIsoValue = true;
+  iso.isoValue = 0.5;
+  ExpectEveryVoxelIsLabelOf<TPixel>(iso, type + ", iso-value");
+}
+
+} // namespace
+
+TEST(ImageLabelSelection, SelectedLabelImageIsLabelOfEveryVoxel)
+{
+  ExpectEveryMappingIsLabelOf<unsigned char>("unsigned char");
+  ExpectEveryMappingIsLabelOf<signed char>("signed char");
+  ExpectEveryMappingIsLabelOf<short>("short");
+  ExpectEveryMappingIsLabelOf<uint16_t>("uint16_t");
+  ExpectEveryMappingIsLabelOf<float>("float");
+  ExpectEveryMappingIsLabelOf<double>("double");
+}
