@@ -49,10 +49,11 @@ namespace delaunay_refinement
  * voxels inside it are looked at, and voxels on its border never change, so it should have a background border (the
  * image oracle's label image has one). When no change unpinches the label in the block at once, the block is looked
  * at again after the change. Returns the number of voxels whose label differs at the end; `changes`, when given,
- * receives them in increasing order of offset, each with the label it had before. */
+ * receives them in increasing order of offset, each with the label it had before. The search for the pinches
+ * runs on up to `numberOfThreads` threads; the result does not depend on their number. */
 DelaunayImageToMesh_EXPORT std::size_t
                            RemoveVoxelPinches(Label * labels, const std::array<std::size_t, 3> & size,
-                                              std::vector<VoxelChange> * changes = nullptr);
+                                              std::vector<VoxelChange> * changes = nullptr, unsigned int numberOfThreads = 1);
 
 /** The same after the voxels at `changedVoxels` (offsets) changed in labels that had no pinch the removal could
  * mend: only the blocks holding them, and those its changes reach, are looked at, so that the cost follows the

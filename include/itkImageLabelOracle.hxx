@@ -117,8 +117,11 @@ ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
   {
     // A changed voxel is in a block with an object voxel, so within one voxel of the object's bounds; the label
     // image's border of background holds it. Voxels change between tissues too, so the object is counted again.
-    m_NumberOfJoiningVoxels = delaunay_refinement::RemoveVoxelPinches(
-      m_LabelImage->GetBufferPointer(), { kept.GetSize()[0], kept.GetSize()[1], kept.GetSize()[2] });
+    m_NumberOfJoiningVoxels =
+      delaunay_refinement::RemoveVoxelPinches(m_LabelImage->GetBufferPointer(),
+                                              { kept.GetSize()[0], kept.GetSize()[1], kept.GetSize()[2] },
+                                              nullptr,
+                                              m_Mapping.numberOfThreads);
     CountObjectVoxels();
   }
   if (m_NumberOfObjectVoxels == 0)

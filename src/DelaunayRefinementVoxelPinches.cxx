@@ -17,11 +17,15 @@
  *=========================================================================*/
 #include "DelaunayRefinementVoxelPinches.h"
 
+#include "DelaunayRefinementParallel.h"
+
 #include <algorithm>
 #include <array>
 #include <cstdint>
 #include <deque>
+#include <limits>
 #include <optional>
+#include <set>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -84,10 +88,11 @@ private:
 class VoxelPinchRemover
 {
 public:
-  VoxelPinchRemover(Label * labels, const std::array<std::size_t, 3> & size)
+  VoxelPinchRemover(Label * labels, const std::array<std::size_t, 3> & size, unsigned int numberOfThreads)
     : m_Labels(labels)
     , m_Size(size)
     , m_Strides{ { 1, size[0], size[0] * size[1] } }
+    , m_NumberOfThreads(std::max(1u, numberOfThreads))
   {
     for (int corner = 0; corner < 8; ++corner)
     {
@@ -99,7 +104,10 @@ public:
     m_LoweredOnce.assign(size[0] * size[1] * size[2], false);
   }
 
-  /** Looks at every block of the grid, in order. */
+  /** Looks at every block of the grid, in order. Only a block with a pinch can change anything, and a block has one
+   * when the scan reaches it only if it had one at the start or a voxel of it changed since: the scan visits those,
+   * found first on several threads (the labels are only read then), and in the same order, so the result is that
+   * of looking at every block. */
   void
   Run()
   {
@@ -107,23 +115,19 @@ public:
     {
       return;
     }
-    for (std::size_t k = 0; k + 1 < m_Size[2]; ++k)
+    const std::vector<std::size_t> pinched = PinchedBlocks();
+    auto                           nextPinched = pinched.begin();
+    while (nextPinched != pinched.end() || !m_ChangedAhead.empty())
     {
-      for (std::size_t j = 0; j + 1 < m_Size[1]; ++j)
-      {
-        const std::size_t rowStart = m_Strides[1] * j + m_Strides[2] * k;
-        for (std::size_t i = 0; i + 1 < m_Size[0]; ++i)
-        {
-          // Most blocks hold one label: a pinch needs two.
-          i = FirstNonUniformBlock(rowStart, i);
-          if (i + 1 < m_Size[0])
-          {
-            m_Pending.push_back(rowStart + i);
-            ProcessPending();
-          }
-        }
-      }
+      const std::size_t block = std::min(nextPinched != pinched.end() ? *nextPinched : NoBlock,
+                                         !m_ChangedAhead.empty() ? *m_ChangedAhead.begin() : NoBlock);
+      m_ScanPosition = block;
+      nextPinched = std::upper_bound(nextPinched, pinched.end(), block);
+      m_ChangedAhead.erase(m_ChangedAhead.begin(), m_ChangedAhead.upper_bound(block));
+      m_Pending.push_back(block);
+      ProcessPending();
     }
+    m_ScanPosition = NoBlock;
   }
 
   /** Looks at the blocks holding the given voxels, in the order Run() would. In labels where no other block holds
@@ -181,18 +185,32 @@ private:
   void
   RankLabels()
   {
+    // Labels come in long runs: count a run at a time rather than hash every voxel, each thread its own layers.
+    const std::size_t                                   layerSize = m_Strides[2];
+    std::vector<std::unordered_map<Label, std::size_t>> countsByLayer(m_Size[2]);
+    constexpr std::size_t                               minimumLayersPerThread = 8;
+    detail::ForEachRangeInParallel(
+      m_Size[2], m_NumberOfThreads, minimumLayersPerThread, [&](std::size_t firstLayer, std::size_t endLayer) {
+        std::unordered_map<Label, std::size_t> & counts = countsByLayer[firstLayer];
+        const std::size_t                        end = endLayer * layerSize;
+        for (std::size_t offset = firstLayer * layerSize; offset < end;)
+        {
+          const Label       label = m_Labels[offset];
+          const std::size_t runStart = offset;
+          while (offset < end && m_Labels[offset] == label)
+          {
+            ++offset;
+          }
+          counts[label] += offset - runStart;
+        }
+      });
     std::unordered_map<Label, std::size_t> counts;
-    const std::size_t                      numberOfVoxels = m_Size[0] * m_Size[1] * m_Size[2];
-    // Labels come in long runs: count a run at a time rather than hash every voxel.
-    for (std::size_t offset = 0; offset < numberOfVoxels;)
+    for (const auto & layerCounts : countsByLayer)
     {
-      const Label       label = m_Labels[offset];
-      const std::size_t runStart = offset;
-      while (offset < numberOfVoxels && m_Labels[offset] == label)
+      for (const auto & [label, count] : layerCounts)
       {
-        ++offset;
+        counts[label] += count;
       }
-      counts[label] += offset - runStart;
     }
     std::vector<std::pair<Label, std::size_t>> ordered(counts.begin(), counts.end());
     std::sort(ordered.begin(), ordered.end(), [](const auto & a, const auto & b) {
@@ -300,6 +318,49 @@ private:
     return true;
   }
 
+  /** The blocks that hold a pinch in the labels as they are, in increasing order; each thread looks at its own
+   * layers of blocks. */
+  std::vector<std::size_t>
+  PinchedBlocks() const
+  {
+    const std::size_t                     layers = m_Size[2] - 1;
+    std::vector<std::vector<std::size_t>> byLayer(layers);
+    constexpr std::size_t                 minimumLayersPerThread = 8;
+    detail::ForEachRangeInParallel(
+      layers, m_NumberOfThreads, minimumLayersPerThread, [&](std::size_t firstLayer, std::size_t endLayer) {
+        for (std::size_t k = firstLayer; k < endLayer; ++k)
+        {
+          for (std::size_t j = 0; j + 1 < m_Size[1]; ++j)
+          {
+            const std::size_t rowStart = m_Strides[1] * j + m_Strides[2] * k;
+            // Most blocks hold one label: a pinch needs two.
+            for (std::size_t i = FirstNonUniformBlock(rowStart, 0); i + 1 < m_Size[0];
+                 i = FirstNonUniformBlock(rowStart, i + 1))
+            {
+              if (IsPinched(rowStart + i))
+              {
+                byLayer[k].push_back(rowStart + i);
+              }
+            }
+          }
+        }
+      });
+    std::vector<std::size_t> pinched;
+    for (const std::vector<std::size_t> & layer : byLayer)
+    {
+      pinched.insert(pinched.end(), layer.begin(), layer.end());
+    }
+    return pinched;
+  }
+
+  /** Whether some label of the block holds a critical configuration there. */
+  bool
+  IsPinched(std::size_t cube) const
+  {
+    return ForEachPinchedLabel(LabelsOf(cube), [](Label, CubeMask) { return true; });
+  }
+
+  /** Mends the block's first pinch, in the order of its labels' first corners, that a change can mend. */
   void
   CheckCube(std::size_t cube)
   {
@@ -307,11 +368,35 @@ private:
     {
       return;
     }
+    const std::array<Label, 8> labels = LabelsOf(cube);
+    ForEachPinchedLabel(labels, [&](Label label, CubeMask mask) {
+      const std::optional<Change> change = BestChange(cube, labels, label, mask);
+      if (change)
+      {
+        Apply(*change);
+      }
+      return change.has_value();
+    });
+  }
+
+  std::array<Label, 8>
+  LabelsOf(std::size_t cube) const
+  {
     std::array<Label, 8> labels;
     for (int corner = 0; corner < 8; ++corner)
     {
       labels[corner] = m_Labels[cube + m_CornerOffsets[corner]];
     }
+    return labels;
+  }
+
+  /** Calls `f(label, mask)` for each label of a block (its eight `labels`) that holds a critical configuration
+   * there, `mask` its voxels in the block, in the order of the labels' first corners, until `f` returns true;
+   * returns whether it did. */
+  template <typename TFunction>
+  bool
+  ForEachPinchedLabel(const std::array<Label, 8> & labels, TFunction && f) const
+  {
     for (int corner = 0; corner < 8; ++corner)
     {
       const Label label = labels[corner];
@@ -324,16 +409,12 @@ private:
       {
         mask |= static_cast<CubeMask>(labels[other] == label) << other;
       }
-      if (m_IsCritical(mask))
+      if (m_IsCritical(mask) && f(label, mask))
       {
-        const std::optional<Change> change = BestChange(cube, labels, label, mask);
-        if (change)
-        {
-          Apply(*change);
-          return;
-        }
+        return true;
       }
     }
+    return false;
   }
 
   /** The pinched label either takes one of the block's voxels from another label (it joins there) or gives one of
@@ -462,7 +543,13 @@ private:
       m_Originals.push_back({ change.offset, m_Labels[change.offset] });
     }
     m_Labels[change.offset] = change.label;
-    ForEachCubeHolding(change.offset, [this](std::size_t cube, int) { m_Pending.push_back(cube); });
+    ForEachCubeHolding(change.offset, [this](std::size_t cube, int) {
+      m_Pending.push_back(cube);
+      if (cube > m_ScanPosition)
+      {
+        m_ChangedAhead.insert(cube);
+      }
+    });
   }
 
   int
@@ -481,6 +568,7 @@ private:
   Label *                                m_Labels;
   const std::array<std::size_t, 3>       m_Size;
   const std::array<std::size_t, 3>       m_Strides;
+  const unsigned int                     m_NumberOfThreads;
   std::array<std::size_t, 8>             m_CornerOffsets{};
   std::unordered_map<Label, std::size_t> m_Rank;
   const CriticalConfigurations           m_IsCritical;
@@ -488,14 +576,20 @@ private:
   std::vector<bool>                      m_LoweredOnce;
   std::deque<std::size_t>                m_Pending;
   std::vector<VoxelChange>               m_Originals;
+  /** No block: the scan is not running (RunAround), or has no block left. */
+  static constexpr std::size_t NoBlock = std::numeric_limits<std::size_t>::max();
+  /** The block Run()'s scan is at, and the blocks past it that hold a voxel changed since the scan began. */
+  std::size_t           m_ScanPosition{ NoBlock };
+  std::set<std::size_t> m_ChangedAhead;
 };
 
 } // namespace
 
 std::size_t
-RemoveVoxelPinches(Label * labels, const std::array<std::size_t, 3> & size, std::vector<VoxelChange> * changes)
+RemoveVoxelPinches(Label * labels, const std::array<std::size_t, 3> & size, std::vector<VoxelChange> * changes,
+                   unsigned int numberOfThreads)
 {
-  VoxelPinchRemover remover(labels, size);
+  VoxelPinchRemover remover(labels, size, numberOfThreads);
   remover.Run();
   return remover.ReportChanges(changes);
 }
@@ -504,7 +598,7 @@ std::size_t
 RemoveVoxelPinchesAround(Label * labels, const std::array<std::size_t, 3> & size,
                          const std::vector<std::size_t> & changedVoxels, std::vector<VoxelChange> * changes)
 {
-  VoxelPinchRemover remover(labels, size);
+  VoxelPinchRemover remover(labels, size, 1);
   remover.RunAround(changedVoxels);
   return remover.ReportChanges(changes);
 }

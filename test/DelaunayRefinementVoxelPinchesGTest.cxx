@@ -367,6 +367,40 @@ TEST(RemoveVoxelPinches, RandomSpeckle)
   EXPECT_GT(tissueToTissue, 20u);
 }
 
+/** The pinches are searched on threads, each its own layers of blocks, and mended in one pass after: the labels and
+ * the changes reported are the same for any number of threads. The grids are deep enough along z for each thread
+ * to get layers (eight at least). */
+TEST(RemoveVoxelPinches, ThreadsDoNotChangeTheResult)
+{
+  XorShift    next(20261128);
+  std::size_t totalChanged = 0;
+  for (int gridNumber = 0; gridNumber < 24; ++gridNumber)
+  {
+    Grid           grid = EmptyGrid({ { 3 + next() % 30, 3 + next() % 10, 17 + next() % 50 } });
+    const uint64_t tissues = 1 + next() % 4;
+    FillWithSpeckle(grid, 1 + next() % 8, tissues, next);
+    Grid                     sequential = grid;
+    std::vector<VoxelChange> sequentialChanges;
+    totalChanged += RemoveVoxelPinches(sequential.labels.data(), sequential.size, &sequentialChanges, 1);
+    for (const unsigned int threads : { 2u, 3u, 8u })
+    {
+      Grid                     threaded = grid;
+      std::vector<VoxelChange> threadedChanges;
+      EXPECT_EQ(RemoveVoxelPinches(threaded.labels.data(), threaded.size, &threadedChanges, threads),
+                sequentialChanges.size())
+        << "grid " << gridNumber << ", " << threads << " threads";
+      EXPECT_EQ(threaded.labels, sequential.labels) << "grid " << gridNumber << ", " << threads << " threads";
+      ASSERT_EQ(threadedChanges.size(), sequentialChanges.size()) << "grid " << gridNumber;
+      for (std::size_t change = 0; change < sequentialChanges.size(); ++change)
+      {
+        EXPECT_EQ(threadedChanges[change].offset, sequentialChanges[change].offset) << "grid " << gridNumber;
+        EXPECT_EQ(threadedChanges[change].before, sequentialChanges[change].before) << "grid " << gridNumber;
+      }
+    }
+  }
+  EXPECT_GT(totalChanged, 500u);
+}
+
 /** After labels without pinches change in a few boxes, RemoveVoxelPinchesAround, which looks only near the
  * changes, ends where the whole-grid pass ends, leaves no pinch, and reports each change with the label it undoes. */
 TEST(RemoveVoxelPinches, AroundChangesEndsAsTheWholeGridPass)
