@@ -197,6 +197,9 @@ private:
   InParallel(SizeValueType count, SizeValueType voxelsPerItem, const TWork & work) const;
   void
   PropagateNearestInterfaceAlongLine(unsigned int axis, SizeValueType lineStart, LowerEnvelope & envelope);
+  /** The pass along x on the line from `lineStart`: its sites are the interface voxels themselves. */
+  void
+  PropagateNearestInterfaceAlongRow(SizeValueType lineStart);
   double
   SquaredDistanceAlongLowerAxes(const SizeValueType * coordinates, SizeValueType lowerOffset, unsigned int axis) const;
   LabelType

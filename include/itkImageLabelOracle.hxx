@@ -225,7 +225,56 @@ ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlong(unsigned int axis,
   // line % stride in it: consecutive lines are next to each other along x wherever they cross it.
   for (SizeValueType line = firstLine; line < endLine; ++line)
   {
-    PropagateNearestInterfaceAlongLine(axis, (line / stride) * stride * size[axis] + line % stride, envelope);
+    if (axis == 0)
+    {
+      PropagateNearestInterfaceAlongRow(line * size[0]);
+    }
+    else
+    {
+      PropagateNearestInterfaceAlongLine(axis, (line / stride) * stride * size[axis] + line % stride, envelope);
+    }
+  }
+}
+
+/** Along x every site is an interface voxel at height 0, and the lower envelope of their parabolas is each site's
+ * between the midpoints to its neighbours: the voxels between two sites take the nearer, found with the same
+ * arithmetic as the envelope (the boundary as PropagateNearestInterfaceAlongLine() computes it, a voxel exactly on
+ * it taking the left site), so the map is the same bit for bit without the envelope's bookkeeping. */
+template <typename TInputImage>
+void
+ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlongRow(SizeValueType lineStart)
+{
+  constexpr uint32_t  none = std::numeric_limits<uint32_t>::max();
+  const double        step = m_LabelImage->GetSpacing()[0];
+  const SizeValueType length = m_LabelImage->GetBufferedRegion().GetSize()[0];
+  uint32_t * const    row = m_NearestInterfaceVoxel.data() + lineStart;
+  SizeValueType       previous = length;
+  for (SizeValueType t = 0; t < length; ++t)
+  {
+    if (row[t] == none)
+    {
+      continue;
+    }
+    if (previous == length)
+    {
+      std::fill(row, row + t, row[t]);
+    }
+    else
+    {
+      const double previousPosition = static_cast<double>(previous) * step;
+      const double position = static_cast<double>(t) * step;
+      const double boundary =
+        (position * position - previousPosition * previousPosition) / (2.0 * (position - previousPosition));
+      for (SizeValueType between = previous + 1; between < t; ++between)
+      {
+        row[between] = boundary < static_cast<double>(between) * step ? row[t] : row[previous];
+      }
+    }
+    previous = t;
+  }
+  if (previous < length)
+  {
+    std::fill(row + previous + 1, row + length, row[previous]);
   }
 }
 
