@@ -83,6 +83,37 @@ public:
 private:
   LargeVector<uint64_t> m_Words;
 };
+/** Whether the `count` labels from `labels` are all equal, compared without a branch so that the compiler vectorises
+ * it: label images are mostly long runs of one label. */
+inline bool
+AllEqual(const Label * labels, std::size_t count)
+{
+  uint32_t differs = 0;
+  for (std::size_t voxel = 1; voxel < count; ++voxel)
+  {
+    differs |= static_cast<uint32_t>(labels[voxel] ^ labels[0]);
+  }
+  return differs == 0;
+}
+
+/** The end of the run of equal labels that begins at `begin` in a row of `length` labels: sixteen labels at a time
+ * while they all equal the run's (AllEqual). */
+inline std::size_t
+RunEnd(const Label * row, std::size_t begin, std::size_t length)
+{
+  constexpr std::size_t chunk = 16;
+  std::size_t           end = begin + 1;
+  while (end + chunk <= length && row[end] == row[begin] && AllEqual(row + end, chunk))
+  {
+    end += chunk;
+  }
+  while (end < length && row[end] == row[begin])
+  {
+    ++end;
+  }
+  return end;
+}
+
 /** Grid offsets of voxels. */
 using VoxelOffsets = LargeVector<std::size_t>;
 /** Voxels (grid offsets) with their new labels. */
@@ -465,6 +496,20 @@ public:
     Row(y, z)[x >> 6] |= uint64_t{ 1 } << (x & 63);
   }
 
+  /** Sets the voxels [first, end) of row (y, z), a word at a time. */
+  void
+  SetRange(long y, long z, long first, long end)
+  {
+    uint64_t * words = Row(y, z);
+    for (long x = first; x < end;)
+    {
+      const long     endOfWord = std::min(end, (x | 63) + 1);
+      const uint64_t ones = ~uint64_t{ 0 } >> (63 - ((endOfWord - 1) & 63)) & ~uint64_t{ 0 } << (x & 63);
+      words[x >> 6] |= ones;
+      x = endOfWord;
+    }
+  }
+
   /** this = this & other, or this & ~other. */
   void
   Keep(const BoxBits & other, bool complement)
@@ -732,12 +777,8 @@ public:
         const std::size_t lineStart = line * size[0];
         for (std::size_t i = 0; i < size[0];)
         {
-          const Label label = labels[lineStart + i];
-          std::size_t end = i + 1;
-          while (end < size[0] && labels[lineStart + end] == label)
-          {
-            ++end;
-          }
+          const Label       label = labels[lineStart + i];
+          const std::size_t end = RunEnd(labels + lineStart, i, size[0]);
           m_Runs[next] = { static_cast<RunIndex>(i), static_cast<RunIndex>(end - i), label };
           m_Parent[next] = static_cast<RunIndex>(next);
           ++next;
@@ -1089,29 +1130,32 @@ private:
         {
           if (label == BackgroundLabel)
           {
-            for (long x = 0; x < box.size[0]; ++x)
-            {
-              words[x >> 6] |= uint64_t{ 1 } << (x & 63);
-            }
+            voxels.SetRange(y, z, 0, box.size[0]);
           }
           continue;
         }
         if (label == BackgroundLabel)
         {
-          for (long x = 0; x < box.size[0]; ++x)
-          {
-            if (x < firstInGrid || x > lastInGrid)
-            {
-              words[x >> 6] |= uint64_t{ 1 } << (x & 63);
-            }
-          }
+          voxels.SetRange(y, z, 0, firstInGrid);
+          voxels.SetRange(y, z, lastInGrid + 1, box.size[0]);
         }
-        // A word at a time, filled in a register and stored once, rather than a read and a write of it per voxel.
+        // A word at a time, filled in a register and stored once, rather than a read and a write of it per voxel;
+        // a word's span of one label (most of them) is decided at once.
         const Label * row = m_Labels + GridOffset(box.lower[0] + firstInGrid, j, k);
         for (long x = firstInGrid; x <= lastInGrid;)
         {
-          const long endOfWord = std::min(lastInGrid + 1, (x | 63) + 1);
-          uint64_t   bits = 0;
+          const long    endOfWord = std::min(lastInGrid + 1, (x | 63) + 1);
+          const Label * span = row + (x - firstInGrid);
+          if (AllEqual(span, static_cast<std::size_t>(endOfWord - x)))
+          {
+            if (span[0] == label)
+            {
+              voxels.SetRange(y, z, x, endOfWord);
+            }
+            x = endOfWord;
+            continue;
+          }
+          uint64_t bits = 0;
           for (; x < endOfWord; ++x)
           {
             bits |= static_cast<uint64_t>(row[x - firstInGrid] == label) << (x & 63);
