@@ -194,10 +194,15 @@ public:
     labels->Allocate();
     delaunay_refinement::AdviseHugePages(labels->GetBufferPointer(), region.GetNumberOfPixels() * sizeof(LabelType));
     auto insideImage = region;
-    insideImage.Crop(image.GetBufferedRegion());
-    if (insideImage != region)
+    // Crop() leaves a region that misses the image's as it was, and says so.
+    const bool meetsTheImage = insideImage.Crop(image.GetBufferedRegion());
+    if (!meetsTheImage || insideImage != region)
     {
       labels->FillBuffer(delaunay_refinement::BackgroundLabel);
+    }
+    if (!meetsTheImage)
+    {
+      return labels;
     }
     Lookup<typename TInputImage::PixelType> lookup(*this);
     LabelImageType &                        output = *labels;

@@ -22,6 +22,7 @@
 
 #include "itkImageLabelSelection.h"
 
+#include "itkImageRegionConstIterator.h"
 #include "itkImageRegionConstIteratorWithIndex.h"
 #include "itkImageRegionIterator.h"
 
@@ -114,6 +115,20 @@ ExpectEveryVoxelIsLabelOf(const itk::ImageLabelMapping & mapping, const std::str
   // The case must select some voxels and leave others out, or it tells nothing.
   EXPECT_GT(objectVoxels, 0u) << what;
   EXPECT_LT(objectVoxels, image->GetBufferedRegion().GetNumberOfPixels()) << what;
+}
+
+/** A region beside the image's, sharing no voxel with it: all background. */
+TEST(ImageLabelSelection, ARegionMissingTheImageIsBackground)
+{
+  const auto                                           image = ImageOfManyValues<unsigned char>();
+  itk::ImageLabelSelection::LabelImageType::RegionType region = image->GetBufferedRegion();
+  region.SetIndex(0, region.GetIndex(0) + static_cast<itk::IndexValueType>(region.GetSize(0)) + 3);
+  const auto labels = itk::ImageLabelSelection(itk::ImageLabelMapping{}).SelectedLabelImage(*image, region);
+  ASSERT_EQ(labels->GetBufferedRegion(), region);
+  for (itk::ImageRegionConstIterator<itk::ImageLabelSelection::LabelImageType> it(labels, region); !it.IsAtEnd(); ++it)
+  {
+    ASSERT_EQ(it.Get(), delaunay_refinement::BackgroundLabel);
+  }
 }
 
 template <typename TPixel>
