@@ -16,8 +16,8 @@
 #
 # ==========================================================================
 """An independent check of the guarantees on the meshes the command-line program writes: radius-edge ratio, dihedral
-angles and the planar angles of the boundary and interface triangles, recomputed with NumPy from the .vtu file as
-meshio reads it. None of the library's own metric code (DelaunayRefinementMeshQuality, the quality report) is used,
+angles, the planar angles of the boundary and interface triangles, and that every tissue's boundary and the union's
+are closed 2-manifolds (issue #14), recomputed with NumPy from the .vtu file as meshio reads it. None of the library's own metric code (DelaunayRefinementMeshQuality, the quality report) is used,
 so a mistake there cannot hide a mesh that breaks a guarantee (issue #17).
 
 Usage: DelaunayImageToMeshCommandLineIndependentQuality.py PROGRAM IMAGE_DIRECTORY OUTPUT_DIRECTORY"""
@@ -112,6 +112,53 @@ def boundary_triangles(tetrahedra, labels):
     return numpy.asarray(triangles, dtype=numpy.int64)
 
 
+def label_boundaries(tetrahedra, labels):
+    """Each label's boundary (the facets of its tetrahedra that only one of them has: the other side is another label
+    or nothing) and the union's (the same over all tetrahedra), by name."""
+    facets = numpy.sort(numpy.concatenate([tetrahedra[:, [1, 2, 3]], tetrahedra[:, [0, 2, 3]],
+                                           tetrahedra[:, [0, 1, 3]], tetrahedra[:, [0, 1, 2]]]), axis=1)
+    facet_labels = numpy.tile(labels, 4)
+    groups = {f"label {int(label)}": facet_labels == label for label in numpy.unique(labels)}
+    groups["union"] = numpy.ones(len(facets), dtype=bool)
+    boundaries = {}
+    for name, selected in groups.items():
+        unique, counts = numpy.unique(facets[selected], axis=0, return_counts=True)
+        boundaries[name] = unique[counts == 1]
+    return boundaries
+
+
+def surface_defects(triangles):
+    """Edges of the triangles not in exactly two of them, and vertices whose link (the edges opposite the vertex in
+    its triangles) is not one cycle: a closed 2-manifold has neither."""
+    edges = numpy.sort(numpy.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [0, 2]]]), axis=1)
+    _, edge_counts = numpy.unique(edges, axis=0, return_counts=True)
+    bad_edges = int(numpy.count_nonzero(edge_counts != 2))
+    links = collections.defaultdict(list)
+    for a, b, c in triangles.tolist():
+        links[a].append((b, c))
+        links[b].append((a, c))
+        links[c].append((a, b))
+    bad_vertices = 0
+    for link in links.values():
+        neighbours = collections.defaultdict(list)
+        for a, b in link:
+            neighbours[a].append(b)
+            neighbours[b].append(a)
+        if any(len(around) != 2 for around in neighbours.values()):
+            bad_vertices += 1
+            continue
+        start = next(iter(neighbours))
+        reached = {start}
+        stack = [start]
+        while stack:
+            for other in neighbours[stack.pop()]:
+                if other not in reached:
+                    reached.add(other)
+                    stack.append(other)
+        bad_vertices += len(reached) != len(neighbours)
+    return bad_edges, bad_vertices
+
+
 def smallest_planar_angles(points, triangles):
     corners = points[triangles]
     smallest = numpy.full(len(triangles), 180.0)
@@ -163,6 +210,11 @@ def check_mesh(path, report, rho, sigma):
     check(len(triangles) > 0, f"{path}: no boundary triangle")
     planar = smallest_planar_angles(points, triangles)
     check_report(path, report, ratios, dihedral_ranges, planar)
+    for name, boundary in label_boundaries(tetrahedra, labels).items():
+        bad_edges, bad_vertices = surface_defects(boundary)
+        check(bad_edges == 0 and bad_vertices == 0, f"{path}: the boundary of {name} has {bad_edges} non-manifold edges "
+              f"and {bad_vertices} non-manifold vertices")
+    check(report["quality"]["manifold"], f"{path}: the report says the boundary is not a manifold")
     if sigma > 0.0:
         check(dihedral.min() >= sigma * (1.0 - 1e-9), f"{path}: dihedral angle {dihedral.min()} < sigma {sigma}")
     else:
@@ -187,6 +239,15 @@ def self_test():
     triangles = boundary_triangles(numpy.array([[0, 1, 2, 3]]), numpy.array([1]))
     check(len(triangles) == 4, "a lone tetrahedron has four boundary facets")
     check(abs(smallest_planar_angles(regular[0], triangles).min() - 60.0) < 1e-9, "regular planar angles")
+    # A lone tetrahedron's boundary is a sphere; two sharing only an edge make it an edge in four triangles (and its
+    # two ends non-manifold vertices); two sharing only a vertex, a vertex whose link is two cycles.
+    lone = label_boundaries(numpy.array([[0, 1, 2, 3]]), numpy.array([1]))
+    check(surface_defects(lone["union"]) == (0, 0) and surface_defects(lone["label 1"]) == (0, 0), "lone tetrahedron")
+    along_an_edge = label_boundaries(numpy.array([[0, 1, 2, 3], [0, 1, 4, 5]]), numpy.array([1, 1]))
+    check(surface_defects(along_an_edge["union"]) == (1, 2), "two tetrahedra sharing an edge only")
+    at_a_vertex = label_boundaries(numpy.array([[0, 1, 2, 3], [0, 4, 5, 6]]), numpy.array([1, 2]))
+    check(surface_defects(at_a_vertex["union"]) == (0, 1), "two tetrahedra sharing a vertex only")
+    check(surface_defects(at_a_vertex["label 2"]) == (0, 0), "one tissue's boundary alone")
 
 
 def main(program, image_directory, output_directory):
