@@ -104,8 +104,9 @@ def main(program, image_directory, cases, rounds):
             changes = [100.0 * (label["mesh_volume_mm3"] - label["segmented_volume_mm3"]) / label["segmented_volume_mm3"]
                        for label in row["defaults"]["labels"] if label["segmented_volume_mm3"] > 0]
             lost = sum(1 for label in row["defaults"]["labels"] if label["lost"])
-            volumes[(name, multiple)] = (len(row["defaults"]["labels"]), min(changes), statistics.median(changes),
-                                         max(changes), lost)
+            if changes:
+                volumes[(name, multiple)] = (len(row["defaults"]["labels"]), min(changes),
+                                             statistics.median(changes), max(changes), lost)
         series[name] = counts
     print("\nTetrahedra with the defaults over delta (× the voxel):\n")
     for name, counts in series.items():
