@@ -188,9 +188,8 @@ private:
     // Labels come in long runs: count a run at a time rather than hash every voxel, each thread its own layers.
     const std::size_t                                   layerSize = m_Strides[2];
     std::vector<std::unordered_map<Label, std::size_t>> countsByLayer(m_Size[2]);
-    constexpr std::size_t                               minimumLayersPerThread = 8;
     detail::ForEachRangeInParallel(
-      m_Size[2], m_NumberOfThreads, minimumLayersPerThread, [&](std::size_t firstLayer, std::size_t endLayer) {
+      m_Size[2], m_NumberOfThreads, MinimumLayersPerThread, [&](std::size_t firstLayer, std::size_t endLayer) {
         std::unordered_map<Label, std::size_t> & counts = countsByLayer[firstLayer];
         const std::size_t                        end = endLayer * layerSize;
         for (std::size_t offset = firstLayer * layerSize; offset < end;)
@@ -325,9 +324,8 @@ private:
   {
     const std::size_t                     layers = m_Size[2] - 1;
     std::vector<std::vector<std::size_t>> byLayer(layers);
-    constexpr std::size_t                 minimumLayersPerThread = 8;
     detail::ForEachRangeInParallel(
-      layers, m_NumberOfThreads, minimumLayersPerThread, [&](std::size_t firstLayer, std::size_t endLayer) {
+      layers, m_NumberOfThreads, MinimumLayersPerThread, [&](std::size_t firstLayer, std::size_t endLayer) {
         for (std::size_t k = firstLayer; k < endLayer; ++k)
         {
           for (std::size_t j = 0; j + 1 < m_Size[1]; ++j)
@@ -576,6 +574,9 @@ private:
   std::vector<bool>                      m_LoweredOnce;
   std::deque<std::size_t>                m_Pending;
   std::vector<VoxelChange>               m_Originals;
+  /** The fewest layers along z a thread counts labels or looks for pinches in: fewer cost more to start than they
+   * save. */
+  static constexpr std::size_t MinimumLayersPerThread = 8;
   /** No block: the scan is not running (RunAround), or has no block left. */
   static constexpr std::size_t NoBlock = std::numeric_limits<std::size_t>::max();
   /** The block Run()'s scan is at, and the blocks past it that hold a voxel changed since the scan began. */
