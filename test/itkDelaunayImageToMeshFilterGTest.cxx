@@ -479,10 +479,6 @@ TEST(PhysicalSpace, ObliqueAnisotropicBallGuarantees)
   ExpectGuarantees(MeshedObliqueBall());
 }
 
-// A voxel is inside when its centre is within r of c. The nearest-neighbour surface runs along the faces
-// between an inside voxel a and an outside voxel b, and a point p there is within half a voxel diagonal h
-// of both centres, so r - h < |p - c| <= r + h: feature vertices lie within h (plus the bisection tolerance)
-// of the sphere, and ChordalDistanceBound() carries that to the whole boundary.
 // The quality report reads the selected labels through ViewLabelVolume: the image's own buffer, not a copy, in the
 // image's physical space. It must be the segmentation a copy made voxel by voxel is (the test helpers' own
 // LabelVolumeOf), and the report made from it the same: here the oblique, anisotropic ball's, whose selected labels
@@ -517,6 +513,10 @@ TEST(PhysicalSpace, ViewLabelVolumeIsTheSelectedLabelsWithoutACopy)
   EXPECT_EQ(json(view), json(copy));
 }
 
+// A voxel is inside when its centre is within r of c. The nearest-neighbour surface runs along the faces
+// between an inside voxel a and an outside voxel b, and a point p there is within half a voxel diagonal h
+// of both centres, so r - h < |p - c| <= r + h: feature vertices lie within h (plus the bisection tolerance)
+// of the sphere, and ChordalDistanceBound() carries that to the whole boundary.
 TEST(PhysicalSpace, ObliqueAnisotropicBallMatchesTheAnalyticSphere)
 {
   const BallInGrid & ball = ObliqueBall();

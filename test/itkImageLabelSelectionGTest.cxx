@@ -117,20 +117,6 @@ ExpectEveryVoxelIsLabelOf(const itk::ImageLabelMapping & mapping, const std::str
   EXPECT_LT(objectVoxels, image->GetBufferedRegion().GetNumberOfPixels()) << what;
 }
 
-/** A region beside the image's, sharing no voxel with it: all background. */
-TEST(ImageLabelSelection, ARegionMissingTheImageIsBackground)
-{
-  const auto                                           image = ImageOfManyValues<unsigned char>();
-  itk::ImageLabelSelection::LabelImageType::RegionType region = image->GetBufferedRegion();
-  region.SetIndex(0, region.GetIndex(0) + static_cast<itk::IndexValueType>(region.GetSize(0)) + 3);
-  const auto labels = itk::ImageLabelSelection(itk::ImageLabelMapping{}).SelectedLabelImage(*image, region);
-  ASSERT_EQ(labels->GetBufferedRegion(), region);
-  for (itk::ImageRegionConstIterator<itk::ImageLabelSelection::LabelImageType> it(labels, region); !it.IsAtEnd(); ++it)
-  {
-    ASSERT_EQ(it.Get(), delaunay_refinement::BackgroundLabel);
-  }
-}
-
 template <typename TPixel>
 void
 ExpectEveryMappingIsLabelOf(const std::string & type)
@@ -159,4 +145,18 @@ TEST(ImageLabelSelection, SelectedLabelImageIsLabelOfEveryVoxel)
   ExpectEveryMappingIsLabelOf<uint16_t>("uint16_t");
   ExpectEveryMappingIsLabelOf<float>("float");
   ExpectEveryMappingIsLabelOf<double>("double");
+}
+
+/** A region beside the image's, sharing no voxel with it: all background. */
+TEST(ImageLabelSelection, ARegionMissingTheImageIsBackground)
+{
+  const auto                                           image = ImageOfManyValues<unsigned char>();
+  itk::ImageLabelSelection::LabelImageType::RegionType region = image->GetBufferedRegion();
+  region.SetIndex(0, region.GetIndex(0) + static_cast<itk::IndexValueType>(region.GetSize(0)) + 3);
+  const auto labels = itk::ImageLabelSelection(itk::ImageLabelMapping{}).SelectedLabelImage(*image, region);
+  ASSERT_EQ(labels->GetBufferedRegion(), region);
+  for (itk::ImageRegionConstIterator<itk::ImageLabelSelection::LabelImageType> it(labels, region); !it.IsAtEnd(); ++it)
+  {
+    ASSERT_EQ(it.Get(), delaunay_refinement::BackgroundLabel);
+  }
 }
