@@ -245,6 +245,15 @@ PlanarAngles(const Vector3 & a, const Vector3 & b, const Vector3 & c)
  * the bound holds would depend on who measures. */
 constexpr double PlanarAngleBoundMarginDegrees = 1e-9;
 
+/** A triangle whose circumradius is below this fraction of its shortest edge has every angle above 30° by
+ * PlanarAngleBoundMarginDegrees: its smallest angle θ has sin θ = shortest / (2 R) > 1 / (2 (1 − c)) ≥ sin(30° + m)
+ * once c ≥ √3 m (m in radians, to first order), 3.0e-11 here; 1e-10 leaves room for the rounding of R and of the
+ * angle. R3 compares with it (RefinementRules::SurfaceBallThreshold), so the rule and the checks agree on ties. */
+constexpr double ShortestEdgeFactorForPlanarAngleMargin = 1.0 - 1e-10;
+static_assert(1.0 - ShortestEdgeFactorForPlanarAngleMargin >
+                1.7320508075688772 * PlanarAngleBoundMarginDegrees * 3.141592653589793 / 180.0,
+              "R3's threshold must keep the planar-angle margin");
+
 /** Theorem 2's bound on boundary triangles: every planar angle above 30°, by PlanarAngleBoundMarginDegrees. For the
  * steps that put an existing triangle on a boundary without R3 (flat caps, the relabelling at non-manifold places,
  * R4′'s new triangles, the interface flips), which must keep it. */

@@ -132,13 +132,16 @@ public:
   }
 
   /** R3's threshold for a restricted facet with corners `a`, `b`, `c` whose surface ball is centred at `center`: the
-   * local δ there, or the facet's shortest edge if shorter (LargeSurfaceBall). A surface ball is at least the
-   * facet's circumcircle, so a facet whose circumradius reaches it is split surely; SliverPerturbation predicts its
-   * moves' failures with it. */
+   * local δ there, or the facet's shortest edge if shorter (LargeSurfaceBall), shortened by
+   * ShortestEdgeFactorForPlanarAngleMargin so that a facet R3 keeps has its angles above 30° by the margin every
+   * check of the bound uses. Without it a triangle whose circumradius equals its shortest edge (a 30° angle, which
+   * the voxel lattice makes exactly) stayed or went by rounding: the randomized ManyLabels seed 5045684 kept one at
+   * 29.99999999999974°. A surface ball is at least the facet's circumcircle, so a facet whose circumradius reaches
+   * it is split surely; SliverPerturbation predicts its moves' failures with it. */
   double
   SurfaceBallThreshold(const Vector3 & center, const Vector3 & a, const Vector3 & b, const Vector3 & c) const
   {
-    return std::min(m_Sizing.LocalDelta(center), ShortestEdgeLength(a, b, c));
+    return std::min(m_Sizing.LocalDelta(center), ShortestEdgeFactorForPlanarAngleMargin * ShortestEdgeLength(a, b, c));
   }
 
   /** The surface ball of a restricted facet with corners `a`, `b`, `c` whose dual Voronoi edge joins `center` and

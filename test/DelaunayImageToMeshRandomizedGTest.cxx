@@ -1209,6 +1209,21 @@ TEST(RandomizedRegression, TheRelabellingLeavesNoRelabelledTetrahedronAlone)
   ExpectMeshedPassingEveryCheck({ { Family::SaltAndPepper, 2002799 } });
 }
 
+/** R3 compared a facet's surface ball with its shortest edge without the margin the checks of the 30° bound use, so a
+ * triangle of exactly 30° (a circumradius equal to its shortest edge, which the voxel lattice makes) stayed or went
+ * by rounding. Found by a search of seeds 45,400-46,999: ManyLabels 5045684 (σ = 10°, δ just below the voxel) kept
+ * a boundary triangle of three feature vertices whose smallest angle was 29.99999999999974°. It must mesh and pass
+ * every check of the suite, the 30° bound among them. */
+TEST(RandomizedRegression, RThreeSplitsATriangleOfExactlyThirtyDegrees)
+{
+  // The case as the search drew it, with the default σ (MakeRecordedCase would run it with σ = 0).
+  const RandomCase randomCase = MakeCase(Family::ManyLabels, 5045684);
+  ASSERT_GT(randomCase.settings.minimumDihedralAngle, 0.0) << "the case is no longer the one";
+  const CaseReport report = RunCase(randomCase);
+  ASSERT_EQ(report.result.outcome, Outcome::Mesh) << Describe(randomCase) << ": " << report.result.message;
+  EXPECT_TRUE(report.problems.empty()) << Describe(randomCase) << ": " << report.problems.front();
+}
+
 /** Issue #14's manifold promise: found by the first search after the families checked manifoldness (seeds 29,400 on),
  * outside the windows the suite runs. The defaults but σ = 0, δ = 1.13 voxels: 2 non-manifold places, 3 after the
  * first round's δ balls (cutting the pinch left a smaller one beside it), none after the second round's 2δ balls. The
