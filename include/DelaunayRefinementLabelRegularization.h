@@ -76,6 +76,27 @@ DelaunayImageToMesh_EXPORT LabelRegularizationReport
 RegularizeLabels(Label * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing, double radius,
                  const std::function<bool()> & keepGoing = {}, unsigned int numberOfThreads = 1);
 
+/** A face-connected part of one label's voxels (FindUnmarkedParts). */
+struct LabelPart
+{
+  Label       label{ BackgroundLabel };
+  std::size_t voxels{ 0 };
+  /** The centre of the part's largest ball: a voxel (an offset into the grid), the first in the grid's order whose
+   * centre is farthest from every voxel cube outside the part (another label, another part of the label, beyond the
+   * grid); and that distance, the ball's radius, measured up to the limit asked for. */
+  std::size_t deepestVoxel{ 0 };
+  double      radius{ 0.0 };
+};
+
+/** The parts of the labels (face-connected voxels of one label, BackgroundLabel excepted) that hold none of the voxels
+ * `marked` (offsets into the grid, laid out as for RegularizeLabels), in the order of their first voxel, each with its
+ * largest ball up to `radiusLimit`. The mesher asks this of the regularised labels with the voxels that hold a
+ * tetrahedron of their label, so that a part the mesh lost is found, meshed or reported. The components are found on
+ * up to `numberOfThreads` threads; the result does not depend on their number. */
+DelaunayImageToMesh_EXPORT std::vector<LabelPart>
+FindUnmarkedParts(const Label * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing,
+                  const std::vector<std::size_t> & marked, double radiusLimit, unsigned int numberOfThreads = 1);
+
 } // namespace delaunay_refinement
 
 #endif

@@ -25,6 +25,7 @@
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace delaunay_refinement
 {
@@ -80,7 +81,15 @@ struct RefinementStatistics
   /** Tetrahedra flat to rounding that the edge removal could not take out, removed by a move of a corner that may
    * break Lemma 2's spacing (docs/algorithm.md, "Flat tetrahedra inside a tissue"). */
   std::size_t flatTetrahedraMovedBelowSpacing{ 0 };
-  /** The smallest local δ the refinement used (δ itself unless the manifold refinement refined somewhere):
+  /** Parts of the labels (LabelPartCensus) that held no tetrahedron while holding a ball of diameter δ, which the
+   * refinement then sampled at a smaller δ around their largest ball (docs/algorithm.md, "Topology"), in how many
+   * rounds; and the parts without a tetrahedron at the end, thick or not, with the oracle's measure of each (none
+   * without a census). */
+  std::size_t               thickPartsRefined{ 0 };
+  std::size_t               thickPartRounds{ 0 };
+  std::vector<UnmeshedPart> unmeshedParts;
+  /** The smallest local δ the refinement used (δ itself unless the manifold refinement or a thick part refined
+   * somewhere):
    * Lemma 2's edge bounds hold with it. */
   double finestSurfaceSamplingDistance{ 0.0 };
   /** Vertices of the final triangulation, box vertices included. */
@@ -131,13 +140,17 @@ public:
  * With a `regularizer` (usually the oracle itself), where a boundary comes out non-manifold the oracle's labels
  * are regularised there and the refinement resumes (RefinementParameters::topologyRegularizationRounds).
  *
+ * With a `census` (usually the oracle itself), every part of the labels that holds a ball of diameter δ and no
+ * tetrahedron is sampled more finely until it holds one, and the parts left without one are listed in the
+ * statistics (RefinementStatistics::unmeshedParts): nothing is lost silently.
+ *
  * Throws std::invalid_argument for invalid parameters, VertexLimitExceeded, SliverRemovalWithoutEnd,
  * RefinementAborted. An oracle with empty ObjectBounds() gives an empty mesh. Deterministic: the same oracle and
  * parameters give the same mesh. */
 DelaunayImageToMesh_EXPORT TetrahedralMesh
 RefineMesh(const LabelOracle & oracle, const RefinementParameters & parameters,
            RefinementStatistics * statistics = nullptr, const ProgressObserver & observer = {},
-           TopologyRegularizer * regularizer = nullptr);
+           TopologyRegularizer * regularizer = nullptr, const LabelPartCensus * census = nullptr);
 
 } // namespace delaunay_refinement
 

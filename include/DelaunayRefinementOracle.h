@@ -115,6 +115,44 @@ protected:
   TopologyRegularizer() = default;
 };
 
+/** A point and the label of the tetrahedron it stands for (LabelPartCensus). */
+struct LabelledPoint
+{
+  Vector3 point{ { 0.0, 0.0, 0.0 } };
+  Label   label{ BackgroundLabel };
+};
+
+/** A part of a label that holds no tetrahedron of it (LabelPartCensus). */
+struct UnmeshedPart
+{
+  Label label{ BackgroundLabel };
+  /** The centre of the part's largest ball and its radius, measured up to the limit asked for. */
+  Vector3 center{ { 0.0, 0.0, 0.0 } };
+  double  radius{ 0.0 };
+  /** The part's volume, in cubic physical units. */
+  double volume{ 0.0 };
+};
+
+/** \class LabelPartCensus
+ * \brief An oracle whose labels are voxels, which can say which parts of them a mesh lost (docs/algorithm.md,
+ * "Topology"): a part is the face-connected voxels of one label, as LabelAt() answers now (regularised).
+ *
+ * The refinement asks it between rounds only, with two points of each tetrahedron of the mesh (its circumcentre and
+ * its centroid) and the tetrahedron's label. */
+class DelaunayImageToMesh_EXPORT LabelPartCensus
+{
+public:
+  virtual ~LabelPartCensus();
+
+  /** The parts (BackgroundLabel's excepted) none of whose voxels holds one of `points` of the part's label, in a
+   * fixed order, each with its largest ball measured up to `radiusLimit`. */
+  virtual std::vector<UnmeshedPart>
+  PartsHoldingNone(const std::vector<LabelledPoint> & points, double radiusLimit) const = 0;
+
+protected:
+  LabelPartCensus() = default;
+};
+
 /** Bisection of [a, b] on oracle.LabelAt(), down to `tolerance`; the labels at a and b must differ. Returns
  * the midpoint of the final bracket, whose ends still carry LabelAt(a) and a different label. */
 DelaunayImageToMesh_EXPORT Vector3

@@ -57,6 +57,7 @@ template <typename TInputImage>
 class ITK_TEMPLATE_EXPORT ImageLabelOracle
   : public delaunay_refinement::LabelOracle
   , public delaunay_refinement::TopologyRegularizer
+  , public delaunay_refinement::LabelPartCensus
 {
 public:
   static constexpr unsigned int ImageDimension = TInputImage::ImageDimension;
@@ -98,6 +99,11 @@ public:
   RegularizeAround(const std::vector<delaunay_refinement::NonManifoldPlace> & places, double radius) override;
 
   /** Voxels whose label RegularizeAround() changed, over all calls. */
+  /** The parts of the labels as regularised (face-connected voxels of one label) that hold none of `points` of
+   * their label; none when the labels are not voxels (an interpolator other than nearest-neighbour). */
+  std::vector<delaunay_refinement::UnmeshedPart>
+  PartsHoldingNone(const std::vector<delaunay_refinement::LabelledPoint> & points, double radiusLimit) const override;
+
   SizeValueType
   GetNumberOfLocallyRegularizedVoxels() const
   {
@@ -144,6 +150,10 @@ public:
   }
 
 private:
+  /** The offset in the label image's buffer of the voxel nearest `point` (the nearest-neighbour interpolator's
+   * arithmetic); false outside the buffer, where every voxel is background. */
+  bool
+  VoxelOffsetAt(const Vector3 & point, SizeValueType & offset) const;
   void
   BuildLabelImage(const InputImageType * image);
   /** The feature transform of the current labels into m_NearestInterfaceVoxel. */

@@ -463,34 +463,42 @@ ImageLabelOracle<TInputImage>::UpdateNearestInterfaceMap(const std::vector<SizeV
 }
 
 template <typename TInputImage>
-auto
-ImageLabelOracle<TInputImage>::VoxelLabelAt(const Vector3 & point) const -> LabelType
+bool
+ImageLabelOracle<TInputImage>::VoxelOffsetAt(const Vector3 & point, SizeValueType & offset) const
 {
   // The same arithmetic as the nearest-neighbour interpolator's, on the padded label image (same geometry). The
   // overload that returns the index skips the region test, which the buffer test below makes redundant.
   const auto continuousIndex =
     m_LabelImage->template TransformPhysicalPointToContinuousIndex<double>(PointType(point.data()));
-  const auto &  buffered = m_Image->GetBufferedRegion();
-  const auto &  cropped = m_LabelImage->GetBufferedRegion();
-  SizeValueType offset = 0;
+  const auto & buffered = m_Image->GetBufferedRegion();
+  const auto & cropped = m_LabelImage->GetBufferedRegion();
+  offset = 0;
   for (unsigned int axis = 0; axis < 3; ++axis)
   {
     const double first = static_cast<double>(buffered.GetIndex()[axis]) - 0.5;
     const double end = first + static_cast<double>(buffered.GetSize()[axis]);
     if (!(continuousIndex[axis] >= first && continuousIndex[axis] < end))
     {
-      return delaunay_refinement::BackgroundLabel;
+      return false;
     }
     // Outside the object's cropped neighbourhood every voxel is background.
     const IndexValueType coordinate =
       Math::RoundHalfIntegerUp<IndexValueType>(continuousIndex[axis]) - cropped.GetIndex()[axis];
     if (coordinate < 0 || static_cast<SizeValueType>(coordinate) >= cropped.GetSize()[axis])
     {
-      return delaunay_refinement::BackgroundLabel;
+      return false;
     }
     offset += static_cast<SizeValueType>(coordinate) * m_BufferStrides[axis];
   }
-  return m_LabelImage->GetBufferPointer()[offset];
+  return true;
+}
+
+template <typename TInputImage>
+auto
+ImageLabelOracle<TInputImage>::VoxelLabelAt(const Vector3 & point) const -> LabelType
+{
+  SizeValueType offset = 0;
+  return VoxelOffsetAt(point, offset) ? m_LabelImage->GetBufferPointer()[offset] : delaunay_refinement::BackgroundLabel;
 }
 
 template <typename TInputImage>

@@ -257,6 +257,52 @@ ImageLabelOracle<TInputImage>::RegularizeAround(const std::vector<delaunay_refin
   return balls;
 }
 
+template <typename TInputImage>
+std::vector<delaunay_refinement::UnmeshedPart>
+ImageLabelOracle<TInputImage>::PartsHoldingNone(const std::vector<delaunay_refinement::LabelledPoint> & points,
+                                                double radiusLimit) const
+{
+  std::vector<delaunay_refinement::UnmeshedPart> parts;
+  if (!m_LabelsAreVoxelwise || m_NumberOfObjectVoxels == 0)
+  {
+    return parts;
+  }
+  const LabelType * const  labels = m_LabelImage->GetBufferPointer();
+  std::vector<std::size_t> marked;
+  for (const delaunay_refinement::LabelledPoint & point : points)
+  {
+    SizeValueType offset = 0;
+    if (VoxelOffsetAt(point.point, offset) && labels[offset] == point.label)
+    {
+      marked.push_back(offset);
+    }
+  }
+  const auto & region = m_LabelImage->GetBufferedRegion();
+  const auto & size = region.GetSize();
+  const auto & spacing = m_LabelImage->GetSpacing();
+  const double voxelVolume = spacing[0] * spacing[1] * spacing[2];
+  for (const delaunay_refinement::LabelPart & part :
+       delaunay_refinement::FindUnmarkedParts(labels,
+                                              { size[0], size[1], size[2] },
+                                              { spacing[0], spacing[1], spacing[2] },
+                                              marked,
+                                              radiusLimit,
+                                              m_Mapping.numberOfThreads))
+  {
+    IndexType index = region.GetIndex();
+    index[0] += static_cast<IndexValueType>(part.deepestVoxel % size[0]);
+    index[1] += static_cast<IndexValueType>(part.deepestVoxel / size[0] % size[1]);
+    index[2] += static_cast<IndexValueType>(part.deepestVoxel / (size[0] * size[1]));
+    PointType center;
+    m_LabelImage->TransformIndexToPhysicalPoint(index, center);
+    parts.push_back({ part.label,
+                      { { center[0], center[1], center[2] } },
+                      part.radius,
+                      static_cast<double>(part.voxels) * voxelVolume });
+  }
+  return parts;
+}
+
 } // namespace itk
 
 #endif

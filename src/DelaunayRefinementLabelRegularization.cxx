@@ -856,6 +856,37 @@ public:
     return m_Statistics;
   }
 
+  /** The component (its root run) of the voxel `x` voxels along line `line` (line = j + size[1] k). */
+  std::size_t
+  ComponentOf(std::size_t line, std::size_t x)
+  {
+    const auto first = m_Runs.begin() + static_cast<std::ptrdiff_t>(m_FirstRunOfLine[line]);
+    const auto end = m_Runs.begin() + static_cast<std::ptrdiff_t>(m_FirstRunOfLine[line + 1]);
+    const auto after =
+      std::upper_bound(first, end, x, [](std::size_t value, const Run & run) { return value < run.x; });
+    return Find(static_cast<std::size_t>(after - m_Runs.begin()) - 1);
+  }
+
+  std::size_t
+  NumberOfRuns() const
+  {
+    return m_Runs.size();
+  }
+
+  /** Calls visit(component, label, first voxel offset, length) for every run, line by line. */
+  template <typename TVisit>
+  void
+  ForEachRun(TVisit && visit)
+  {
+    for (std::size_t line = 0; line + 1 < m_FirstRunOfLine.size(); ++line)
+    {
+      for (std::size_t run = m_FirstRunOfLine[line]; run < m_FirstRunOfLine[line + 1]; ++run)
+      {
+        visit(Find(run), m_Runs[run].label, line * m_Size[0] + m_Runs[run].x, std::size_t{ m_Runs[run].length });
+      }
+    }
+  }
+
   /** Calls visit(label) once for each component none of whose voxels satisfies keeps(voxel offset). */
   template <typename TKeeps, typename TVisit>
   void
@@ -1629,7 +1660,186 @@ private:
   double                        m_DilationReach;
   std::size_t                   m_NumberOfVoxels;
 };
+/** FindUnmarkedParts: the parts are the components of LabelComponents; each unmarked one's largest ball is measured
+ * voxel by voxel, nearest cubes first, up to the limit. */
+class UnmarkedPartFinder
+{
+public:
+  UnmarkedPartFinder(const Label * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing,
+                     unsigned int numberOfThreads)
+    : m_Components(labels, size, numberOfThreads)
+    , m_Size(size)
+    , m_Spacing(spacing)
+  {}
+
+  std::vector<LabelPart>
+  Find(const std::vector<std::size_t> & marked, double radiusLimit)
+  {
+    std::vector<bool> isMarked(m_Components.NumberOfRuns(), false);
+    for (const std::size_t voxel : marked)
+    {
+      isMarked[m_Components.ComponentOf(voxel / m_Size[0], voxel % m_Size[0])] = true;
+    }
+    // The unmarked parts in the order of their first voxel, with their runs.
+    std::map<std::size_t, std::size_t>                            partOfComponent;
+    std::vector<LabelPart>                                        parts;
+    std::vector<std::vector<std::pair<std::size_t, std::size_t>>> runsOfPart;
+    m_Components.ForEachRun([&](std::size_t component, Label label, std::size_t first, std::size_t length) {
+      if (label == BackgroundLabel || isMarked[component])
+      {
+        return;
+      }
+      const auto [entry, isNew] = partOfComponent.emplace(component, parts.size());
+      if (isNew)
+      {
+        parts.push_back({ label, 0, first, 0.0 });
+        runsOfPart.emplace_back();
+      }
+      parts[entry->second].voxels += length;
+      runsOfPart[entry->second].emplace_back(first, length);
+    });
+    const std::vector<CubeOffset> offsets = CubesNearestFirst(radiusLimit);
+    for (std::size_t part = 0; part < parts.size(); ++part)
+    {
+      MeasureLargestBall(parts[part], runsOfPart[part], offsets, radiusLimit);
+    }
+    return parts;
+  }
+
+private:
+  /** A voxel's neighbour, with the distance from the voxel's centre to the neighbour's cube. */
+  struct CubeOffset
+  {
+    std::array<long, 3> step;
+    double              distance;
+  };
+
+  /** The voxels whose cubes come closer than `radius` to a voxel's centre, nearest first (ties in a fixed order). */
+  std::vector<CubeOffset>
+  CubesNearestFirst(double radius) const
+  {
+    std::array<long, 3> reach{};
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      reach[axis] = static_cast<long>(std::ceil(radius / m_Spacing[axis] + 0.5));
+    }
+    std::vector<CubeOffset> offsets;
+    for (long z = -reach[2]; z <= reach[2]; ++z)
+    {
+      for (long y = -reach[1]; y <= reach[1]; ++y)
+      {
+        for (long x = -reach[0]; x <= reach[0]; ++x)
+        {
+          const std::array<long, 3> step{ { x, y, z } };
+          double                    squared = 0.0;
+          for (int axis = 0; axis < 3; ++axis)
+          {
+            const double gap = std::max(0.0, std::abs(static_cast<double>(step[axis])) - 0.5) * m_Spacing[axis];
+            squared += gap * gap;
+          }
+          if (std::sqrt(squared) < radius && (x != 0 || y != 0 || z != 0))
+          {
+            offsets.push_back({ step, std::sqrt(squared) });
+          }
+        }
+      }
+    }
+    std::stable_sort(offsets.begin(), offsets.end(), [](const CubeOffset & a, const CubeOffset & b) {
+      return a.distance < b.distance;
+    });
+    return offsets;
+  }
+
+  /** The part's largest ball centred on one of its voxel centres that no cube outside it reaches, up to `limit`, and
+   * its centre (the first such voxel in the grid's order). A voxel whose cube face touches another part has a ball of
+   * radius 0 (its clearance: the first cube outside, nearest first). */
+  void
+  MeasureLargestBall(LabelPart & part, const std::vector<std::pair<std::size_t, std::size_t>> & runs,
+                     const std::vector<CubeOffset> & offsets, double limit)
+  {
+    const std::size_t component = ComponentAt(part.deepestVoxel);
+    part.radius = -1.0;
+    for (const auto & [first, length] : runs)
+    {
+      for (std::size_t voxel = first; voxel < first + length; ++voxel)
+      {
+        const std::array<long, 3> index = IndexOf(voxel);
+        double                    clearance = limit;
+        for (const CubeOffset & offset : offsets)
+        {
+          const std::array<long, 3> other{
+            { index[0] + offset.step[0], index[1] + offset.step[1], index[2] + offset.step[2] }
+          };
+          if (!IsInside(other) || ComponentAt(OffsetOf(other)) != component)
+          {
+            clearance = offset.distance;
+            break;
+          }
+        }
+        if (clearance > part.radius)
+        {
+          part.radius = clearance;
+          part.deepestVoxel = voxel;
+          if (clearance >= limit)
+          {
+            return;
+          }
+        }
+      }
+    }
+  }
+
+  std::size_t
+  ComponentAt(std::size_t voxel)
+  {
+    return m_Components.ComponentOf(voxel / m_Size[0], voxel % m_Size[0]);
+  }
+
+  std::array<long, 3>
+  IndexOf(std::size_t voxel) const
+  {
+    return { { static_cast<long>(voxel % m_Size[0]),
+               static_cast<long>(voxel / m_Size[0] % m_Size[1]),
+               static_cast<long>(voxel / (m_Size[0] * m_Size[1])) } };
+  }
+
+  std::size_t
+  OffsetOf(const std::array<long, 3> & index) const
+  {
+    return static_cast<std::size_t>(index[0]) +
+           m_Size[0] * (static_cast<std::size_t>(index[1]) + m_Size[1] * static_cast<std::size_t>(index[2]));
+  }
+
+  bool
+  IsInside(const std::array<long, 3> & index) const
+  {
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      if (index[axis] < 0 || index[axis] >= static_cast<long>(m_Size[axis]))
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  LabelComponents            m_Components;
+  std::array<std::size_t, 3> m_Size;
+  Vector3                    m_Spacing;
+};
+
 } // namespace
+
+std::vector<LabelPart>
+FindUnmarkedParts(const Label * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing,
+                  const std::vector<std::size_t> & marked, double radiusLimit, unsigned int numberOfThreads)
+{
+  if (size[0] * size[1] * size[2] == 0)
+  {
+    return {};
+  }
+  return UnmarkedPartFinder(labels, size, spacing, std::max(1U, numberOfThreads)).Find(marked, radiusLimit);
+}
 
 LabelRegularizationReport
 RegularizeLabels(Label * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing, double radius,

@@ -23,6 +23,7 @@ namespace delaunay_refinement
 LabelOracle::~LabelOracle() = default;
 
 TopologyRegularizer::~TopologyRegularizer() = default;
+LabelPartCensus::~LabelPartCensus() = default;
 
 SurfaceDistanceBounds
 LabelOracle::BoundSurfaceDistance(const Vector3 &) const

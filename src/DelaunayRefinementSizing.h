@@ -77,7 +77,14 @@ public:
   double
   AddZone(const Vector3 & point, double delta)
   {
-    const double radius = ZoneRadiusFactor * 2.0 * delta;
+    return AddZone(point, delta, ZoneRadiusFactor * 2.0 * delta);
+  }
+
+  /** Samples at `delta` within `radius` of `point`; `radius` at most ZoneRadiusFactor times the δ everywhere else. */
+  double
+  AddZone(const Vector3 & point, double delta, double radius)
+  {
+    radius = std::min(radius, ZoneRadiusFactor * m_Delta);
     m_ZoneCenters.Insert(point, m_Zones.size());
     m_Zones.push_back({ point, radius * radius, delta });
     return radius;

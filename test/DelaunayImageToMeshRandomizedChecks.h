@@ -385,12 +385,11 @@ struct RunResult
   /** What the refinement did, for a report. */
   std::string refinement;
   /** Components of the segmentation the filter meshed (GetObjectLabelImage(), the regularised labels) that hold a
-   * ball of ThickComponentRadius() (diameter 2δ), counted from the voxels; the first of them described. Filled for
+   * ball of ThickComponentRadius() (diameter δ), counted from the voxels; the first of them described. Filled for
    * a mesh and for "no tetrahedron". */
   std::size_t thickComponents{ 0 };
-  /** Components that hold a ball of diameter δ but not 2δ and have no tetrahedron (for "no tetrahedron": all such
-   * components): reported, not a failure (see ThickComponentRadius()). */
-  std::size_t lostComponentsAboutADeltaAcross{ 0 };
+  /** Components of any size without a tetrahedron, counted here from the voxels and the mesh (of a mesh only). */
+  std::size_t unmeshedComponents{ 0 };
   std::string firstThickComponent;
   /** Of a mesh from nearest-neighbour labels: the largest distance, in units of δ, from the mesh's boundary to the
    * voxels' surface, and from the surface of the thick components to the mesh's boundary (-1: not measured). */
@@ -969,51 +968,52 @@ CheckOutputsAgree(TFilter & filter, const dr::TetrahedralMesh & fromOutputs, Vio
   }
 }
 
-/** The radius of a ball that makes a component of the segmentation thick enough that the mesh must hold it: δ, a ball
- * of diameter 2δ.
+/** The radius of a ball that makes a component of the segmentation thick enough that the mesh must hold it.
  *
- * What is proven is twice that: take the tetrahedron of the final triangulation that holds the centre c of a ball of
- * radius 2δ inside a component. If its circumsphere misses the surface, that sphere (which holds c) lies inside the
- * component, and so does its centre; if it meets the surface, R2 no longer applying means its radius is < 2δ, so its
- * centre is within 2δ of c, inside the ball. Either way its circumcentre carries the component's label: the
- * tetrahedron is output. Measured over the randomized suite's 3,000 cases: the components the mesh lost hold balls of
- * radius 0.50-0.70 δ (diameters up to 1.4 δ; about 140 of them, single voxels a little larger than δ included), none
- * of radius 0.71 δ or more. A component a δ across is therefore not always meshed (the regularisation, which keeps
- * every part a δ across, and the refinement disagree there: reported to issue #14); one 2δ across must be.
- * With an iso-value the surface is the linear interpolation's, which lies up to a voxel diagonal inside the voxels
- * that reach the iso-value (the ones the segmentation holds): the ball is that much larger. */
+ * With nearest-neighbour labels, δ / 2 (a ball of diameter δ, issue #14's "at least δ thick"): the filter finds the
+ * parts of its labels that hold no tetrahedron and samples those that thick more finely until they do
+ * (RefinementStatistics::unmeshedParts; docs/algorithm.md, "Topology"). Before it did, the randomized suite's 3,000
+ * cases lost about 140 components of radius 0.50-0.70 δ, and 3,132 in the SaltAndPepper family alone of seeds
+ * 47,000-48,599.
+ *
+ * With an iso-value there is no voxel census, and the bound is the proven one, 2δ: take the tetrahedron of the final
+ * triangulation that holds the centre c of a ball of radius 2δ inside a component. If its circumsphere misses the
+ * surface, that sphere (which holds c) lies inside the component, and so does its centre; if it meets the surface,
+ * R2 no longer applying means its radius is < 2δ, so its centre is within 2δ of c, inside the ball. Either way its
+ * circumcentre carries the component's label: the tetrahedron is output. The measured one, δ, is used; the surface
+ * is the linear interpolation's, which lies up to a voxel diagonal inside the voxels that reach the iso-value (the
+ * ones the segmentation holds): the ball is that much larger. */
 inline double
 ThickComponentRadius(double delta, const FilterSettings & settings, const Vector<double, 3> & spacing)
+{
+  const double diagonal = std::sqrt(spacing[0] * spacing[0] + spacing[1] * spacing[1] + spacing[2] * spacing[2]);
+  return settings.isoValue ? delta + diagonal : 0.5 * delta;
+}
+
+/** The radius of the ball whose opening of the labels is the part of the segmentation the mesh's boundary follows
+ * (the distance check, LargestDistance's callers): δ, and with an iso-value a voxel diagonal more (see
+ * ThickComponentRadius()). Thinner parts attached to thicker ones (rims, lines, sheets, cavities) are meshed, but
+ * their surface is not resolved. */
+inline double
+ResolvedPartRadius(double delta, const FilterSettings & settings, const Vector<double, 3> & spacing)
 {
   const double diagonal = std::sqrt(spacing[0] * spacing[0] + spacing[1] * spacing[1] + spacing[2] * spacing[2]);
   return delta + (settings.isoValue ? diagonal : 0.0);
 }
 
-/** The radius of a ball (diameter δ) from which on a lost component is reported. */
-inline double
-ReportedComponentRadius(double delta, const FilterSettings & settings, const Vector<double, 3> & spacing)
-{
-  return ThickComponentRadius(delta, settings, spacing) - 0.5 * delta;
-}
-
-/** Which components of the segmentation the filter meshed hold a ball of ThickComponentRadius() (into `result`, and
- * true in the first vector) or of ReportedComponentRadius() (true in the second). */
+/** Which components of the segmentation the filter meshed hold a ball of ThickComponentRadius() (into `result`). */
 template <typename TFilter>
-std::pair<std::vector<bool>, std::vector<bool>>
+std::vector<bool>
 FindThickComponents(const TFilter & filter, const FilterSettings & settings, const SegmentationComponents & components,
                     RunResult & result)
 {
   const double      delta = filter.GetEffectiveSurfaceSamplingDistance();
   const auto &      spacing = filter.GetObjectLabelImage()->GetSpacing();
   const double      radius = ThickComponentRadius(delta, settings, spacing);
-  const double      reported = ReportedComponentRadius(delta, settings, spacing);
   std::vector<bool> thick(components.NumberOfComponents(), false);
-  std::vector<bool> aboutADeltaAcross(components.NumberOfComponents(), false);
   for (std::size_t component = 0; component < thick.size(); ++component)
   {
-    const double largest = components.LargestBallRadius(component, radius);
-    thick[component] = largest >= radius;
-    aboutADeltaAcross[component] = !thick[component] && largest >= reported;
+    thick[component] = components.LargestBallRadius(component, radius) >= radius;
     if (thick[component] && result.thickComponents++ == 0)
     {
       result.firstThickComponent = "a component of label " + std::to_string(components.LabelOf(component)) + " (" +
@@ -1021,7 +1021,7 @@ FindThickComponents(const TFilter & filter, const FilterSettings & settings, con
                                    " voxels) holds a ball of radius " + std::to_string(radius / delta) + " delta";
     }
   }
-  return { thick, aboutADeltaAcross };
+  return thick;
 }
 
 /** Largest distance from the points to the surface, or 0 for no point. */
@@ -1043,9 +1043,9 @@ LargestDistance(const std::vector<dr::Vector3> & samples, const dr::TriangleSurf
  * 0.43, 99th percentile 0.91, largest 0.98. A mesh made at 2δ reaches about 2δ.
  *
  * The thick parts' surface to the boundary: the faces between the thick parts of two labels (ThickParts(), with the
- * ball of ThickComponentRadius(): the labels opened at that scale, which is what the mesh stands for). Measured over
- * the suite's 3,000 cases: 95th percentile 0.83, 99th 0.91, largest 1.48 (ManyLabels). Before, the whole surface of
- * the thick components was measured, and its tail (99th percentile 2.6, largest 4.46; then 5.1, 8.3 and 18.3 in a
+ * ball of ResolvedPartRadius(): the labels opened at that scale, which is what the mesh's boundary follows). Measured
+ * over the suite's 3,000 cases: 95th percentile 0.83, 99th 0.91, largest 1.48 (ManyLabels). Before, the whole surface
+ * of the thick components was measured, and its tail (99th percentile 2.6, largest 4.46; then 5.1, 8.3 and 18.3 in a
  * search of 12,000 more cases) was parts thinner than the ball attached to thick ones (rims, lines, sheets and
  * cavities that survived the regularisation), which the refinement does not resolve, as it does not resolve
  * components that thin, at any distance from a boundary. The bound keeps a margin over the largest: it catches a lost
@@ -1064,8 +1064,7 @@ CheckAgainstSegmentation(const TFilter & filter, const FilterSettings & settings
 {
   const double                 delta = filter.GetEffectiveSurfaceSamplingDistance();
   const SegmentationComponents components(*filter.GetObjectLabelImage());
-  const auto                   classes = FindThickComponents(filter, settings, components, result);
-  const std::vector<bool> &    thick = classes.first;
+  const std::vector<bool>      thick = FindThickComponents(filter, settings, components, result);
   std::vector<bool>            meshed(components.NumberOfComponents(), false);
   for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
   {
@@ -1085,7 +1084,7 @@ CheckAgainstSegmentation(const TFilter & filter, const FilterSettings & settings
   std::size_t lost = 0;
   for (std::size_t component = 0; component < thick.size(); ++component)
   {
-    result.lostComponentsAboutADeltaAcross += classes.second[component] && !meshed[component];
+    result.unmeshedComponents += !meshed[component];
     if (thick[component] && !meshed[component] && lost++ < 3)
     {
       violations.Add("a component of label ",
@@ -1096,6 +1095,16 @@ CheckAgainstSegmentation(const TFilter & filter, const FilterSettings & settings
                      components.LargestBallRadius(component, 4.0 * delta) / delta,
                      " delta but no tetrahedron");
     }
+  }
+  // Nothing is lost silently: the parts the filter lists without a tetrahedron are the components counted here (it
+  // has no census of an iso-value's interpolated labels).
+  const std::size_t listed = filter.GetRefinementStatistics().unmeshedParts.size();
+  if (!settings.isoValue && listed != result.unmeshedComponents)
+  {
+    violations.Add("the filter lists ",
+                   listed,
+                   " parts of its labels without a tetrahedron; the voxels and the mesh show ",
+                   result.unmeshedComponents);
   }
   if (settings.isoValue || mesh.boundaryTriangles.empty())
   {
@@ -1151,7 +1160,7 @@ CheckAgainstSegmentation(const TFilter & filter, const FilterSettings & settings
   // thinner than the ball are left out, as the thin components are: the refinement does not resolve them at δ, and
   // they can lie far from any boundary (SheetsAndLines 3003993, regularisation scale 0: a line 18 δ long hanging off
   // a thick sheet; SaltAndPepper 2004185: a one-voxel cavity 0.93 δ thick inside an ellipsoid, 5 δ from its surface).
-  const std::vector<bool> thickPart = components.ThickParts(ThickComponentRadius(delta, settings, spacing));
+  const std::vector<bool> thickPart = components.ThickParts(ResolvedPartRadius(delta, settings, spacing));
   const auto              isThickPart = [&thickPart](std::size_t voxel) {
     return voxel == SegmentationComponents::None || thickPart[voxel];
   };
@@ -1260,9 +1269,13 @@ CheckGuarantees(TFilter & filter, const TImage & image, const FilterSettings & s
                      " deg");
     }
   }
-  // Lemma 2 edge by edge, with the sizing the refinement exported (GetRefinedMesh() has the outputs' points).
-  const dr::LocalSizingReport sizing = dr::CheckEdgesAgainstLocalSizing(
-    filter.GetRefinedMesh(), delta, rho, filter.GetManifoldRefinementLevels(), !(sigma > 0.0), RoundingSlack);
+  // Lemma 2 edge by edge, with the sizing the refinement exported (GetRefinedMesh() has the outputs' points). δ is
+  // halved at most once per level of the opt-in manifold refinement, and once per round of the sampling of thick
+  // parts that had no tetrahedron (the first at the part's largest ball, at least δ / 2).
+  const unsigned int halvings = std::max<unsigned int>(
+    filter.GetManifoldRefinementLevels(), static_cast<unsigned int>(filter.GetRefinementStatistics().thickPartRounds));
+  const dr::LocalSizingReport sizing =
+    dr::CheckEdgesAgainstLocalSizing(filter.GetRefinedMesh(), delta, rho, halvings, !(sigma > 0.0), RoundingSlack);
   for (const std::string & problem : sizing.problems)
   {
     violations.Add(problem);
@@ -1416,10 +1429,7 @@ RunAndCheck(const TImage * image, const FilterSettings & settings)
     result.outcome = ClassifyExceptionDescription(result.message);
     if (result.outcome == Outcome::NoTetrahedron && filter->GetObjectLabelImage())
     {
-      const auto classes =
-        FindThickComponents(*filter, settings, SegmentationComponents(*filter->GetObjectLabelImage()), result);
-      result.lostComponentsAboutADeltaAcross =
-        static_cast<std::size_t>(std::count(classes.second.begin(), classes.second.end(), true));
+      FindThickComponents(*filter, settings, SegmentationComponents(*filter->GetObjectLabelImage()), result);
     }
   }
   catch (const std::exception & error)

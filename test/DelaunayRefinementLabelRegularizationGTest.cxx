@@ -489,5 +489,187 @@ TEST(LabelRegularization, TheNumberOfThreadsDoesNotChangeTheResult)
   }
 }
 
+// ---- FindUnmarkedParts against its definition, by brute force -------------------------------------------------
+
+/** The parts FindUnmarkedParts must find: face-connected voxels of one non-background label (a flood fill, outside
+ * the grid background), those
+ * holding no marked voxel, in the order of their first voxel; each with the largest clearance of its voxels up to
+ * `limit` (the distance from the voxel's centre to the nearest cube outside the part, the grid's outside included, by
+ * a scan of every voxel within reach) and the first voxel that has it. */
+std::vector<LabelPart>
+UnmarkedPartsByDefinition(const Grid & grid, const std::vector<std::size_t> & marked, double limit)
+{
+  const std::size_t                     count = grid.labels.size();
+  const std::size_t                     none = std::numeric_limits<std::size_t>::max();
+  std::vector<std::size_t>              partOf(count, none);
+  std::vector<std::vector<std::size_t>> voxelsOf;
+  const auto                            indexOf = [&](std::size_t voxel) {
+    return std::array<long, 3>{ { static_cast<long>(voxel % grid.size[0]),
+                                  static_cast<long>(voxel / grid.size[0] % grid.size[1]),
+                                  static_cast<long>(voxel / (grid.size[0] * grid.size[1])) } };
+  };
+  const auto offsetOf = [&](long i, long j, long k) {
+    return static_cast<std::size_t>(i) +
+           grid.size[0] * (static_cast<std::size_t>(j) + grid.size[1] * static_cast<std::size_t>(k));
+  };
+  for (std::size_t seed = 0; seed < count; ++seed)
+  {
+    if (grid.labels[seed] == BackgroundLabel || partOf[seed] != none)
+    {
+      continue;
+    }
+    voxelsOf.emplace_back();
+    std::vector<std::size_t> stack{ seed };
+    partOf[seed] = voxelsOf.size() - 1;
+    while (!stack.empty())
+    {
+      const std::size_t voxel = stack.back();
+      stack.pop_back();
+      voxelsOf.back().push_back(voxel);
+      const std::array<long, 3> index = indexOf(voxel);
+      for (int neighbour = 0; neighbour < 6; ++neighbour)
+      {
+        std::array<long, 3> next = index;
+        next[neighbour / 2] += neighbour % 2 ? 1 : -1;
+        if (grid.At(next[0], next[1], next[2]) == grid.labels[seed])
+        {
+          const std::size_t offset = offsetOf(next[0], next[1], next[2]);
+          if (partOf[offset] == none)
+          {
+            partOf[offset] = partOf[seed];
+            stack.push_back(offset);
+          }
+        }
+      }
+    }
+  }
+  std::vector<bool> isMarked(voxelsOf.size(), false);
+  for (const std::size_t voxel : marked)
+  {
+    if (partOf[voxel] != none)
+    {
+      isMarked[partOf[voxel]] = true;
+    }
+  }
+  const auto gap = [](long steps, double spacing) {
+    return std::max(0.0, std::abs(static_cast<double>(steps)) - 0.5) * spacing;
+  };
+  std::vector<LabelPart> parts;
+  for (std::size_t part = 0; part < voxelsOf.size(); ++part)
+  {
+    if (isMarked[part])
+    {
+      continue;
+    }
+    std::vector<std::size_t> voxels = voxelsOf[part];
+    std::sort(voxels.begin(), voxels.end());
+    LabelPart expected{ grid.labels[voxels.front()], voxels.size(), voxels.front(), -1.0 };
+    for (const std::size_t voxel : voxels)
+    {
+      const std::array<long, 3> index = indexOf(voxel);
+      double                    clearance = limit;
+      const long                reach = 12;
+      for (long dk = -reach; dk <= reach; ++dk)
+      {
+        for (long dj = -reach; dj <= reach; ++dj)
+        {
+          for (long di = -reach; di <= reach; ++di)
+          {
+            const long i = index[0] + di;
+            const long j = index[1] + dj;
+            const long k = index[2] + dk;
+            const bool inside = i >= 0 && j >= 0 && k >= 0 && i < static_cast<long>(grid.size[0]) &&
+                                j < static_cast<long>(grid.size[1]) && k < static_cast<long>(grid.size[2]);
+            if (inside && partOf[offsetOf(i, j, k)] == part)
+            {
+              continue;
+            }
+            const double x = gap(di, grid.spacing[0]);
+            const double y = gap(dj, grid.spacing[1]);
+            const double z = gap(dk, grid.spacing[2]);
+            clearance = std::min(clearance, std::sqrt(x * x + y * y + z * z));
+          }
+        }
+      }
+      if (clearance > expected.radius)
+      {
+        expected.radius = clearance;
+        expected.deepestVoxel = voxel;
+      }
+    }
+    parts.push_back(expected);
+  }
+  return parts;
+}
+
+/** Random blobs, a sheet and speckle of three labels on anisotropic grids; a random tenth of the voxels marked. Every
+ * unmarked part must be found, with its label, its voxels, and its largest ball's radius and centre (up to a limit
+ * below the largest parts' balls, and one above every ball), whatever the number of threads. */
+TEST(UnmarkedParts, AreThePartsTheDefinitionGives)
+{
+  std::mt19937 random(20261128);
+  for (const Vector3 & spacing : { Vector3{ { 1.0, 1.0, 1.0 } }, Vector3{ { 0.7, 1.1, 1.6 } } })
+  {
+    for (const double limit : { 1.2, 50.0 })
+    {
+      const Grid               grid = RandomGrid(random, { { 70, 9, 8 } }, spacing);
+      std::vector<std::size_t> marked;
+      for (std::size_t voxel = 0; voxel < grid.labels.size(); ++voxel)
+      {
+        if (random() % 10 == 0)
+        {
+          marked.push_back(voxel);
+        }
+      }
+      std::vector<LabelPart> expected = UnmarkedPartsByDefinition(grid, marked, limit);
+      ASSERT_GT(expected.size(), 3U) << "the grid has too few unmarked parts to test";
+      for (const unsigned int threads : { 1U, 3U })
+      {
+        SCOPED_TRACE("spacing " + std::to_string(spacing[2]) + ", limit " + std::to_string(limit) + ", " +
+                     std::to_string(threads) + " threads");
+        std::vector<LabelPart> found =
+          FindUnmarkedParts(grid.labels.data(), grid.size, spacing, marked, limit, threads);
+        // Both list the parts in the order of their first voxel (the definition's flood fills start there).
+        ASSERT_EQ(found.size(), expected.size());
+        for (std::size_t part = 0; part < found.size(); ++part)
+        {
+          EXPECT_EQ(found[part].label, expected[part].label) << "part " << part;
+          EXPECT_EQ(found[part].voxels, expected[part].voxels) << "part " << part;
+          EXPECT_NEAR(found[part].radius, expected[part].radius, 1e-12) << "part " << part;
+          EXPECT_EQ(found[part].deepestVoxel, expected[part].deepestVoxel) << "part " << part;
+        }
+      }
+    }
+  }
+}
+
+/** A part with no voxel marked is listed even when it is the whole of its label; a marked voxel of one part does not
+ * count for another part of the same label. */
+TEST(UnmarkedParts, AMarkCountsForItsOwnPartOnly)
+{
+  const Size         size{ { 12, 5, 5 } };
+  std::vector<Label> labels(size[0] * size[1] * size[2], BackgroundLabel);
+  const auto offset = [&](std::size_t i, std::size_t j, std::size_t k) { return i + size[0] * (j + size[1] * k); };
+  for (std::size_t k = 1; k < 4; ++k)
+  {
+    for (std::size_t j = 1; j < 4; ++j)
+    {
+      labels[offset(1, j, k)] = labels[offset(2, j, k)] = labels[offset(3, j, k)] = 1;
+      labels[offset(6, j, k)] = labels[offset(7, j, k)] = labels[offset(8, j, k)] = 1;
+      labels[offset(10, j, k)] = 2;
+    }
+  }
+  const std::vector<LabelPart> parts =
+    FindUnmarkedParts(labels.data(), size, { { 1.0, 1.0, 1.0 } }, { offset(2, 2, 2) }, 10.0);
+  ASSERT_EQ(parts.size(), 2U);
+  EXPECT_EQ(parts[0].label, 1);
+  EXPECT_EQ(parts[0].voxels, 27U);
+  EXPECT_EQ(parts[0].deepestVoxel, offset(7, 2, 2));
+  EXPECT_DOUBLE_EQ(parts[0].radius, 1.5);
+  EXPECT_EQ(parts[1].label, 2);
+  EXPECT_EQ(parts[1].voxels, 9U);
+  EXPECT_DOUBLE_EQ(parts[1].radius, 0.5);
+}
+
 } // namespace
 } // namespace delaunay_refinement

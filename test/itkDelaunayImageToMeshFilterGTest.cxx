@@ -1250,8 +1250,10 @@ ExpectLatticeDeltaGuarantees(const Meshed<FilterType> & meshed, std::size_t tiss
     ExpectDihedralAnglesReachSigma(meshed);
     return;
   }
+  // δ is halved once per round of the sampling of thin parts (single voxels hold a ball of diameter δ here).
+  const auto halvings = static_cast<unsigned int>(meshed.filter->GetRefinementStatistics().thickPartRounds);
   const dr::LocalSizingReport sizing =
-    dr::CheckEdgesAgainstLocalSizing(meshed.filter->GetRefinedMesh(), DeltaOnTheLattice, 2.0, 0, true);
+    dr::CheckEdgesAgainstLocalSizing(meshed.filter->GetRefinedMesh(), DeltaOnTheLattice, 2.0, halvings, true);
   EXPECT_TRUE(sizing.problems.empty()) << sizing.problems.front();
 }
 
