@@ -542,6 +542,11 @@ MeshImage(const Options & options)
                                                          ? delaunay_refinement::DistanceMeasurement::Measure
                                                          : delaunay_refinement::DistanceMeasurement::Skip,
                                                        distanceProgress);
+    const auto & spacing = filter->GetSelectedLabelImage()->GetSpacing();
+    delaunay_refinement::AddWhatTheMeshLeftOut(report,
+                                               filter->GetRegularizationReport(),
+                                               spacing[0] * spacing[1] * spacing[2],
+                                               filter->GetRefinementStatistics().unmeshedParts);
     distanceDisplay.reset();
     phaseSeconds.emplace_back("report", reportTime.Seconds());
   }

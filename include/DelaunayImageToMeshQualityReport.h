@@ -19,7 +19,9 @@
 #define DelaunayImageToMeshQualityReport_h
 
 #include "DelaunayImageToMeshSurfaceExtraction.h"
+#include "DelaunayRefinementLabelRegularization.h"
 #include "DelaunayRefinementMeshQuality.h"
+#include "DelaunayRefinementOracle.h"
 #include "DelaunayRefinementTypes.h"
 
 #include <cstddef>
@@ -67,6 +69,16 @@ struct LabelQuality
   SurfaceTopology boundary;
   /** For a lost label (IsLost()), the face-connected pieces of its voxels in the segmentation; otherwise 0. */
   std::size_t lostComponents{ 0 };
+  /** What the regularisation at the scale of δ did to the label: its components removed whole (thinner than the
+   * scale everywhere), the volume it took from the label and the volume it gave to it, mm³. Added by
+   * AddWhatTheMeshLeftOut(); 0 without it. */
+  std::size_t regularizedComponentsRemoved{ 0 };
+  double      regularizedVolumeRemoved{ 0.0 };
+  double      regularizedVolumeAdded{ 0.0 };
+  /** Parts of the label as meshed (after the regularisation) that hold no tetrahedron, and their volume, mm³
+   * (RefinementStatistics::unmeshedParts). Added by AddWhatTheMeshLeftOut(); 0 without it. */
+  std::size_t partsWithoutTetrahedra{ 0 };
+  double      partsWithoutTetrahedraVolume{ 0.0 };
 
   /** Whether the segmentation has voxels of this label but the mesh no tetrahedron: the mesher lost it (a tissue
    * thinner than δ, say) or a later step removed it. Its boundary is then empty: it has no angle and no genus. */
@@ -158,6 +170,14 @@ ComputeQualityReport(const TetrahedralMesh & mesh, const LabelVolume & segmentat
                      DistanceMeasurement      distance = DistanceMeasurement::Measure,
                      const DistanceProgress & distanceProgress = {});
 
+/** Adds to the report's labels what the mesh leaves out of the segmentation on purpose: what the regularisation at
+ * the scale of δ removed and added (`regularization`, whose volumes are in voxels of `voxelVolume` mm³), and the parts
+ * of the regularised labels that hold no tetrahedron (`unmeshedParts`, each thinner than δ unless the refinement's
+ * rounds could not mesh it). Entries for labels the report does not list are ignored. */
+void
+AddWhatTheMeshLeftOut(QualityReport & report, const LabelRegularizationReport & regularization, double voxelVolume,
+                      const std::vector<UnmeshedPart> & unmeshedParts);
+
 /** Prints the report as a short table of aligned columns, for people. A lost label's row ends with "lost: N
  * component(s), V mm^3" instead of angles and genus, and the summary lists the lost labels. */
 void
@@ -171,9 +191,10 @@ PrintQualityReport(const QualityReport & report, std::ostream & out);
  * mesh_volume_mm3, segmented_volume_mm3, distance_to_marching_cubes {sample_spacing_mm, samples, mean_mm,
  * percentile95_mm, max_mm} (null when not measured), labels [{label, vertices, tetrahedra, boundary_triangles,
  * mesh_volume_mm3, segmented_volume_mm3, boundary_components, boundary_genus, boundary_component_genera,
- * non_manifold_edges, non_manifold_vertices, min_planar_angle_deg, lost, and for a lost label lost_components and
- * lost_volume_mm3, its genus, genera and angle null}], min_dihedral_angle_histogram {bin_width_deg, counts},
- * time_seconds {phase: seconds}, peak_memory_bytes. */
+ * non_manifold_edges, non_manifold_vertices, min_planar_angle_deg, lost, regularization {components_removed,
+ * volume_removed_mm3, volume_added_mm3}, parts_without_tetrahedra, parts_without_tetrahedra_mm3, and for a lost label
+ * lost_components and lost_volume_mm3, its genus, genera and angle null}], min_dihedral_angle_histogram {bin_width_deg,
+ * counts}, time_seconds {phase: seconds}, peak_memory_bytes. */
 void
 WriteQualityReportJson(const QualityReport & report, std::ostream & out);
 

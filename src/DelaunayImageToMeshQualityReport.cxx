@@ -299,7 +299,13 @@ LabelJson(const LabelQuality & quality)
              { "non_manifold_edges", boundary.nonManifoldEdges },
              { "non_manifold_vertices", boundary.nonManifoldVertices },
              { "min_planar_angle_deg", lost ? Json() : Json(boundary.minimumPlanarAngle) },
-             { "lost", lost } };
+             { "lost", lost },
+             { "regularization",
+                                  { { "components_removed", quality.regularizedComponentsRemoved },
+                                    { "volume_removed_mm3", quality.regularizedVolumeRemoved },
+                                    { "volume_added_mm3", quality.regularizedVolumeAdded } } },
+             { "parts_without_tetrahedra", quality.partsWithoutTetrahedra },
+             { "parts_without_tetrahedra_mm3", quality.partsWithoutTetrahedraVolume } };
   if (lost)
   {
     json["lost_components"] = quality.lostComponents;
@@ -437,6 +443,32 @@ PrintSummary(const QualityReport & report, std::ostream & out)
   {
     PrintRow(out, "LOST tissues", lostLabels);
   }
+  std::size_t regularizedAway = 0;
+  double      volumeRemoved = 0.0;
+  double      volumeAdded = 0.0;
+  std::size_t partsLeftOut = 0;
+  double      volumeLeftOut = 0.0;
+  for (const LabelQuality & quality : report.labels)
+  {
+    regularizedAway += quality.regularizedComponentsRemoved;
+    volumeRemoved += quality.regularizedVolumeRemoved;
+    volumeAdded += quality.regularizedVolumeAdded;
+    partsLeftOut += quality.partsWithoutTetrahedra;
+    volumeLeftOut += quality.partsWithoutTetrahedraVolume;
+  }
+  if (volumeRemoved > 0.0 || volumeAdded > 0.0)
+  {
+    PrintRow(out,
+             "regularised at delta",
+             std::to_string(regularizedAway) + (regularizedAway == 1 ? " component" : " components") + " removed; " +
+               Fixed(volumeRemoved, 1) + " mm^3 taken from tissues, " + Fixed(volumeAdded, 1) + " mm^3 given to them");
+  }
+  if (partsLeftOut > 0)
+  {
+    PrintRow(out,
+             "parts without tetrahedra",
+             std::to_string(partsLeftOut) + " (" + Fixed(volumeLeftOut, 1) + " mm^3), per label in the JSON report");
+  }
   const DistanceStatistics & distance = report.distanceToMarchingCubes;
   PrintRow(out,
            "distance to marching cubes",
@@ -505,6 +537,35 @@ ComputeQualityReport(const TetrahedralMesh & mesh, const LabelVolume & segmentat
     AddDistanceToMarchingCubes(mesh, segmentation, report, distanceProgress);
   }
   return report;
+}
+
+void
+AddWhatTheMeshLeftOut(QualityReport & report, const LabelRegularizationReport & regularization, double voxelVolume,
+                      const std::vector<UnmeshedPart> & unmeshedParts)
+{
+  const auto entryOf = [&report](Label label) -> LabelQuality * {
+    const auto found = std::find_if(report.labels.begin(), report.labels.end(), [label](const LabelQuality & quality) {
+      return quality.label == label;
+    });
+    return found == report.labels.end() ? nullptr : &*found;
+  };
+  for (const LabelRegularizationChange & change : regularization.labels)
+  {
+    if (LabelQuality * const quality = entryOf(change.label))
+    {
+      quality->regularizedComponentsRemoved += change.componentsRemoved;
+      quality->regularizedVolumeRemoved += static_cast<double>(change.voxelsRemoved) * voxelVolume;
+      quality->regularizedVolumeAdded += static_cast<double>(change.voxelsAdded) * voxelVolume;
+    }
+  }
+  for (const UnmeshedPart & part : unmeshedParts)
+  {
+    if (LabelQuality * const quality = entryOf(part.label))
+    {
+      ++quality->partsWithoutTetrahedra;
+      quality->partsWithoutTetrahedraVolume += part.volume;
+    }
+  }
 }
 
 void

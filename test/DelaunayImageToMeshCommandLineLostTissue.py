@@ -52,6 +52,13 @@ def main(program, images, output):
     for label in (1, 2):
         check(labels[label]["lost"] is False and "lost_components" not in labels[label],
               f"meshed label {label} reported as lost: {labels[label]}")
+    # What left it is said too: the regularisation at the scale of delta removed its one component (both voxels),
+    # so no part of it was left for the mesh to miss.
+    regularization = speck["regularization"]
+    check(regularization["components_removed"] == 1, f"label 3's component not reported as regularised away: {speck}")
+    check(math.isclose(regularization["volume_removed_mm3"], SPECK_VOLUME, rel_tol=1e-9)
+          and regularization["volume_added_mm3"] == 0, f"label 3's regularised volume: {speck}")
+    check(speck["parts_without_tetrahedra"] == 0, f"a part of label 3 left after the regularisation: {speck}")
 
     rows = [line.split() for line in result.stdout.splitlines()]
     speck_rows = [row for row in rows if row[:3] == [str(SPECK_LABEL), "0", "0"]]
@@ -64,7 +71,10 @@ def main(program, images, output):
     check("180.00" not in result.stdout, f"an angle of an empty set is printed: {describe(result)}")
     check("LOST tissues                label 3 (1 component, 3.8 mm^3)" in result.stdout,
           f"the summary does not list the lost tissue: {describe(result)}")
-    print("label 3 (2 voxels) lost at the default delta: 'lost: 1 component, 3.8 mm^3' in the table and JSON")
+    check("regularised at delta        1 component removed;" in result.stdout,
+          f"the summary does not say what the regularisation removed: {describe(result)}")
+    print("label 3 (2 voxels) lost at the default delta: 'lost: 1 component, 3.8 mm^3' in the table and JSON, "
+          "regularised away")
 
 
 if __name__ == "__main__":
