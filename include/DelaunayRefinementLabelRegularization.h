@@ -23,6 +23,7 @@
 #include <array>
 #include <cstddef>
 #include <functional>
+#include <memory>
 #include <vector>
 
 namespace delaunay_refinement
@@ -86,6 +87,27 @@ struct LabelPart
    * grid); and that distance, the ball's radius, measured up to the limit asked for. */
   std::size_t deepestVoxel{ 0 };
   double      radius{ 0.0 };
+};
+
+/** The parts of a label image, found once (a component count, about a pass over the labels) and asked for the
+ * unmarked ones as often as wanted while the labels stay as they were (FindUnmarkedParts). */
+class DelaunayImageToMesh_EXPORT LabelParts
+{
+public:
+  LabelParts(const Label * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing,
+             unsigned int numberOfThreads = 1);
+  ~LabelParts();
+  LabelParts(const LabelParts &) = delete;
+  LabelParts &
+  operator=(const LabelParts &) = delete;
+
+  /** FindUnmarkedParts() on the labels as they were when this was made. */
+  std::vector<LabelPart>
+  FindUnmarked(const std::vector<std::size_t> & marked, double radiusLimit);
+
+private:
+  class Finder;
+  std::unique_ptr<Finder> m_Finder;
 };
 
 /** The parts of the labels (face-connected voxels of one label, BackgroundLabel excepted) that hold none of the voxels

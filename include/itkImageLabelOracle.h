@@ -29,6 +29,7 @@
 
 #include <array>
 #include <functional>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -246,8 +247,11 @@ private:
   ImageLabelMapping                       m_Mapping;
   ImageLabelSelection                     m_Selection;
   /** Whether LabelAt() is the label of the nearest voxel (a nearest-neighbour interpolator). */
-  bool                             m_LabelsAreVoxelwise;
-  typename LabelImageType::Pointer m_LabelImage;
+  bool m_LabelsAreVoxelwise;
+  /** The parts of the labels for PartsHoldingNone(), found at its first call and again after RegularizeAround()
+   * changed the labels. */
+  mutable std::unique_ptr<delaunay_refinement::LabelParts> m_LabelParts;
+  typename LabelImageType::Pointer                         m_LabelImage;
   /** For each voxel of m_LabelImage (by buffer offset), the buffer offset of the nearest interface voxel. */
   delaunay_refinement::LargeVector<uint32_t> m_NearestInterfaceVoxel;
   // The nearest interface voxels after the passes along x and y only (each z-slice's own), from the first local

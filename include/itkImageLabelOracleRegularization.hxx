@@ -161,6 +161,8 @@ ImageLabelOracle<TInputImage>::RegularizeAround(const std::vector<delaunay_refin
   {
     return balls;
   }
+  // The labels changed: their parts are found again when next asked for.
+  m_LabelParts.reset();
   LabelType * const                             labels = m_LabelImage->GetBufferPointer();
   const auto &                                  size = m_LabelImage->GetBufferedRegion().GetSize();
   std::vector<delaunay_refinement::VoxelChange> pinchChanges;
@@ -281,13 +283,15 @@ ImageLabelOracle<TInputImage>::PartsHoldingNone(const std::vector<delaunay_refin
   const auto & size = region.GetSize();
   const auto & spacing = m_LabelImage->GetSpacing();
   const double voxelVolume = spacing[0] * spacing[1] * spacing[2];
-  for (const delaunay_refinement::LabelPart & part :
-       delaunay_refinement::FindUnmarkedParts(labels,
-                                              { size[0], size[1], size[2] },
-                                              { spacing[0], spacing[1], spacing[2] },
-                                              marked,
-                                              radiusLimit,
-                                              m_Mapping.numberOfThreads))
+  if (!m_LabelParts)
+  {
+    m_LabelParts = std::make_unique<delaunay_refinement::LabelParts>(
+      labels,
+      std::array<std::size_t, 3>{ size[0], size[1], size[2] },
+      delaunay_refinement::Vector3{ { spacing[0], spacing[1], spacing[2] } },
+      m_Mapping.numberOfThreads);
+  }
+  for (const delaunay_refinement::LabelPart & part : m_LabelParts->FindUnmarked(marked, radiusLimit))
   {
     IndexType index = region.GetIndex();
     index[0] += static_cast<IndexValueType>(part.deepestVoxel % size[0]);

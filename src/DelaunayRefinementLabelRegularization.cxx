@@ -1830,15 +1830,32 @@ private:
 
 } // namespace
 
+class LabelParts::Finder : public UnmarkedPartFinder
+{
+public:
+  using UnmarkedPartFinder::UnmarkedPartFinder;
+};
+
+LabelParts::LabelParts(const Label * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing,
+                       unsigned int numberOfThreads)
+  : m_Finder(size[0] * size[1] * size[2] == 0
+               ? nullptr
+               : std::make_unique<Finder>(labels, size, spacing, std::max(1U, numberOfThreads)))
+{}
+
+LabelParts::~LabelParts() = default;
+
+std::vector<LabelPart>
+LabelParts::FindUnmarked(const std::vector<std::size_t> & marked, double radiusLimit)
+{
+  return m_Finder ? m_Finder->Find(marked, radiusLimit) : std::vector<LabelPart>();
+}
+
 std::vector<LabelPart>
 FindUnmarkedParts(const Label * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing,
                   const std::vector<std::size_t> & marked, double radiusLimit, unsigned int numberOfThreads)
 {
-  if (size[0] * size[1] * size[2] == 0)
-  {
-    return {};
-  }
-  return UnmarkedPartFinder(labels, size, spacing, std::max(1U, numberOfThreads)).Find(marked, radiusLimit);
+  return LabelParts(labels, size, spacing, numberOfThreads).FindUnmarked(marked, radiusLimit);
 }
 
 LabelRegularizationReport
