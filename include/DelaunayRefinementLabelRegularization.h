@@ -23,6 +23,7 @@
 #include <array>
 #include <cstddef>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -101,9 +102,11 @@ public:
   LabelParts &
   operator=(const LabelParts &) = delete;
 
-  /** FindUnmarkedParts() on the labels as they were when this was made. */
+  /** FindUnmarkedParts() on the labels as they were when this was made, among the parts of at most `maximumVoxels`
+   * voxels (the larger ones are not measured). */
   std::vector<LabelPart>
-  FindUnmarked(const std::vector<std::size_t> & marked, double radiusLimit);
+  FindUnmarked(const std::vector<std::size_t> & marked, double radiusLimit,
+               std::size_t maximumVoxels = std::numeric_limits<std::size_t>::max());
 
 private:
   class Finder;

@@ -144,10 +144,11 @@ class DelaunayImageToMesh_EXPORT LabelPartCensus
 public:
   virtual ~LabelPartCensus();
 
-  /** The parts (BackgroundLabel's excepted) none of whose voxels holds one of `points` of the part's label, in a
-   * fixed order, each with its largest ball measured up to `radiusLimit`. */
+  /** The parts (BackgroundLabel's excepted) of at most `maximumVolume` none of whose voxels holds one of `points` of
+   * the part's label, in a fixed order, each with its largest ball measured up to `radiusLimit`. */
   virtual std::vector<UnmeshedPart>
-  PartsHoldingNone(const std::vector<LabelledPoint> & points, double radiusLimit) const = 0;
+  PartsHoldingNone(const std::vector<LabelledPoint> & points, double radiusLimit,
+                   double maximumVolume = std::numeric_limits<double>::infinity()) const = 0;
 
 protected:
   LabelPartCensus() = default;

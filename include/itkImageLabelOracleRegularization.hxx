@@ -262,7 +262,7 @@ ImageLabelOracle<TInputImage>::RegularizeAround(const std::vector<delaunay_refin
 template <typename TInputImage>
 std::vector<delaunay_refinement::UnmeshedPart>
 ImageLabelOracle<TInputImage>::PartsHoldingNone(const std::vector<delaunay_refinement::LabelledPoint> & points,
-                                                double radiusLimit) const
+                                                double radiusLimit, double maximumVolume) const
 {
   std::vector<delaunay_refinement::UnmeshedPart> parts;
   if (!m_LabelsAreVoxelwise || m_NumberOfObjectVoxels == 0)
@@ -291,7 +291,12 @@ ImageLabelOracle<TInputImage>::PartsHoldingNone(const std::vector<delaunay_refin
       delaunay_refinement::Vector3{ { spacing[0], spacing[1], spacing[2] } },
       m_Mapping.numberOfThreads);
   }
-  for (const delaunay_refinement::LabelPart & part : m_LabelParts->FindUnmarked(marked, radiusLimit))
+  // The largest whole number of voxels within the volume (a part of more voxels is larger).
+  const double      voxelsWithin = std::floor(maximumVolume / voxelVolume);
+  const std::size_t maximumVoxels = voxelsWithin < static_cast<double>(std::numeric_limits<std::size_t>::max())
+                                      ? static_cast<std::size_t>(voxelsWithin)
+                                      : std::numeric_limits<std::size_t>::max();
+  for (const delaunay_refinement::LabelPart & part : m_LabelParts->FindUnmarked(marked, radiusLimit, maximumVoxels))
   {
     IndexType index = region.GetIndex();
     index[0] += static_cast<IndexValueType>(part.deepestVoxel % size[0]);

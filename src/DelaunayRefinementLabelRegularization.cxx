@@ -1673,7 +1673,7 @@ public:
   {}
 
   std::vector<LabelPart>
-  Find(const std::vector<std::size_t> & marked, double radiusLimit)
+  Find(const std::vector<std::size_t> & marked, double radiusLimit, std::size_t maximumVoxels)
   {
     std::vector<bool> isMarked(m_Components.NumberOfRuns(), false);
     for (const std::size_t voxel : marked)
@@ -1699,11 +1699,16 @@ public:
       runsOfPart[entry->second].emplace_back(first, length);
     });
     const std::vector<CubeOffset> offsets = CubesNearestFirst(radiusLimit);
+    std::vector<LabelPart>        measured;
     for (std::size_t part = 0; part < parts.size(); ++part)
     {
-      MeasureLargestBall(parts[part], runsOfPart[part], offsets, radiusLimit);
+      if (parts[part].voxels <= maximumVoxels)
+      {
+        MeasureLargestBall(parts[part], runsOfPart[part], offsets, radiusLimit);
+        measured.push_back(parts[part]);
+      }
     }
-    return parts;
+    return measured;
   }
 
 private:
@@ -1846,9 +1851,9 @@ LabelParts::LabelParts(const Label * labels, const std::array<std::size_t, 3> & 
 LabelParts::~LabelParts() = default;
 
 std::vector<LabelPart>
-LabelParts::FindUnmarked(const std::vector<std::size_t> & marked, double radiusLimit)
+LabelParts::FindUnmarked(const std::vector<std::size_t> & marked, double radiusLimit, std::size_t maximumVoxels)
 {
-  return m_Finder ? m_Finder->Find(marked, radiusLimit) : std::vector<LabelPart>();
+  return m_Finder ? m_Finder->Find(marked, radiusLimit, maximumVoxels) : std::vector<LabelPart>();
 }
 
 std::vector<LabelPart>

@@ -428,10 +428,10 @@ private:
     }
     const double delta = m_Parameters.surfaceSamplingDistance;
     std::size_t  zones = 0;
-    for (const UnmeshedPart & part : m_Census->PartsHoldingNone({}, WellSampledPartRadius * delta))
+    for (const UnmeshedPart & part :
+         m_Census->PartsHoldingNone({}, WellSampledPartRadius * delta, SmallPartVolume * delta * delta * delta))
     {
-      if (IsThick(part) && part.radius < WellSampledPartRadius * delta * (1.0 - PartTieMargin) &&
-          part.volume <= SmallPartVolume * delta * delta * delta)
+      if (IsThick(part) && part.radius < WellSampledPartRadius * delta * (1.0 - PartTieMargin))
       {
         m_Sizing.AddZone(part.center, part.radius, 2.0 * part.radius);
         ++zones;

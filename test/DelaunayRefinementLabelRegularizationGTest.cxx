@@ -644,7 +644,7 @@ TEST(UnmarkedParts, AreThePartsTheDefinitionGives)
 }
 
 /** A part with no voxel marked is listed even when it is the whole of its label; a marked voxel of one part does not
- * count for another part of the same label. */
+ * count for another part of the same label; a size limit leaves the larger parts out. */
 TEST(UnmarkedParts, AMarkCountsForItsOwnPartOnly)
 {
   const Size         size{ { 12, 5, 5 } };
@@ -669,6 +669,13 @@ TEST(UnmarkedParts, AMarkCountsForItsOwnPartOnly)
   EXPECT_EQ(parts[1].label, 2);
   EXPECT_EQ(parts[1].voxels, 9U);
   EXPECT_DOUBLE_EQ(parts[1].radius, 0.5);
+  // Asked for the parts of at most 9 voxels, the same labels list the second only, measured the same.
+  LabelParts                   labelParts(labels.data(), size, { { 1.0, 1.0, 1.0 } });
+  const std::vector<LabelPart> small = labelParts.FindUnmarked({ offset(2, 2, 2) }, 10.0, 9);
+  ASSERT_EQ(small.size(), 1U);
+  EXPECT_EQ(small[0].label, 2);
+  EXPECT_EQ(small[0].deepestVoxel, parts[1].deepestVoxel);
+  EXPECT_EQ(labelParts.FindUnmarked({ offset(2, 2, 2) }, 10.0).size(), 2U) << "asked again, all of them";
 }
 
 } // namespace
