@@ -415,10 +415,10 @@ private:
    * sampled at r within 2r of the ball's centre, where the part's surface near the ball is (at r /
    * WellSampledPartRadius, the edge of what is meshed surely, whether the zone sufficed followed δ's last bits again,
    * on the case below; within 3r, 2.9 % more tetrahedra on the atlas phantom at 1 mm, 4.4 % on the k-means tissues on
-   * the 1 mm grid at 3 mm). Decided from
-   * the voxels before the refinement, so that a last-bit change of δ does not decide it: when only the parts found
-   * without a tetrahedron were sampled (WithEveryThickPart), a part the refinement happened to mesh at one δ was lost
-   * at the next (the randomized SheetsAndLines 3000031: 443 or 502 points at δ and δ (1 + 1e-12)). */
+   * the 1 mm grid at 3 mm). Decided from the voxels before the refinement, so that a last-bit change of δ does not
+   * decide it: when only the parts found without a tetrahedron were sampled (WithEveryThickPart), a part the
+   * refinement happened to mesh at one δ was lost at the next (the randomized SheetsAndLines 3000031: 443 or 502
+   * points at δ and δ (1 + 1e-12)). */
   void
   SampleThinPartsFinely()
   {
