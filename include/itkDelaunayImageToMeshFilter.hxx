@@ -265,7 +265,8 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
 
   try
   {
-    m_RefinedMesh = delaunay_refinement::RefineMesh(oracle, parameters, &m_RefinementStatistics, observer, &oracle, &oracle);
+    m_RefinedMesh =
+      delaunay_refinement::RefineMesh(oracle, parameters, &m_RefinementStatistics, observer, &oracle, &oracle);
   }
   catch (const delaunay_refinement::RefinementAborted & error)
   {
