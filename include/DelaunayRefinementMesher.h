@@ -89,8 +89,7 @@ struct RefinementStatistics
   std::size_t               thickPartRounds{ 0 };
   std::vector<UnmeshedPart> unmeshedParts;
   /** The smallest local δ the refinement used (δ itself unless the manifold refinement or a thick part refined
-   * somewhere):
-   * Lemma 2's edge bounds hold with it. */
+   * somewhere): Lemma 2's edge bounds hold with it. */
   double finestSurfaceSamplingDistance{ 0.0 };
   /** Vertices of the final triangulation, box vertices included. */
   std::size_t triangulationVertices{ 0 };

@@ -1660,13 +1660,15 @@ private:
   double                        m_DilationReach;
   std::size_t                   m_NumberOfVoxels;
 };
+} // namespace
+
 /** FindUnmarkedParts: the parts are the components of LabelComponents; each unmarked one's largest ball is measured
  * voxel by voxel, nearest cubes first, up to the limit. */
-class UnmarkedPartFinder
+class LabelParts::Finder
 {
 public:
-  UnmarkedPartFinder(const Label * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing,
-                     unsigned int numberOfThreads)
+  Finder(const Label * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing,
+         unsigned int numberOfThreads)
     : m_Components(labels, size, numberOfThreads)
     , m_Size(size)
     , m_Spacing(spacing)
@@ -1678,7 +1680,7 @@ public:
     std::vector<bool> isMarked(m_Components.NumberOfRuns(), false);
     for (const std::size_t voxel : marked)
     {
-      isMarked[m_Components.ComponentOf(voxel / m_Size[0], voxel % m_Size[0])] = true;
+      isMarked[ComponentAt(voxel)] = true;
     }
     // The unmarked parts in the order of their first voxel, with their runs.
     std::map<std::size_t, std::size_t>                            partOfComponent;
@@ -1831,14 +1833,6 @@ private:
   LabelComponents            m_Components;
   std::array<std::size_t, 3> m_Size;
   Vector3                    m_Spacing;
-};
-
-} // namespace
-
-class LabelParts::Finder : public UnmarkedPartFinder
-{
-public:
-  using UnmarkedPartFinder::UnmarkedPartFinder;
 };
 
 LabelParts::LabelParts(const Label * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing,

@@ -1254,7 +1254,6 @@ TEST(RandomizedRegression, ComponentsADeltaAcrossAreMeshed)
 
 // ---- Known defects, pinned: when one is fixed its test fails, and the check it is excused from gets strict -----
 
-
 /** With ρ = 1 and σ > 0 the sliver removal may not end: R4 splits every tissue tetrahedron whose radius-edge ratio
  * reaches 1 and R4′ every one with a dihedral angle below σ, and near the boundary the two can keep making work for
  * each other (nothing is proven below ρ = 2, nor with σ > 0). Found by searches of the suite's Mixed family, all at
