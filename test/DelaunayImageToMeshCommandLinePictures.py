@@ -36,10 +36,14 @@ SIZE = (640, 480)
 
 
 def run_script(command, name):
-    """Debian's VTK needs an X display even off-screen: without one, xvfb-run provides it."""
-    if "render_mesh" in name and not os.environ.get("DISPLAY"):
-        check(shutil.which("xvfb-run") is not None, "no DISPLAY and no xvfb-run (package xvfb) to render with")
-        command = ["xvfb-run", "-a"] + command
+    """Debian's VTK needs an X display even off-screen. xvfb-run starts a private one, so it is used whenever it is
+    installed: a DISPLAY variable inherited from the environment can name a server that is not running (CI once
+    had DISPLAY=:99 with no server, and VTK aborted)."""
+    if "render_mesh" in name:
+        if shutil.which("xvfb-run") is not None:
+            command = ["xvfb-run", "-a"] + command
+        else:
+            check(bool(os.environ.get("DISPLAY")), "no DISPLAY and no xvfb-run (package xvfb) to render with")
     result = subprocess.run(command, capture_output=True, text=True, timeout=600)
     check(result.returncode == 0, f"{name} failed with exit code {result.returncode}:\n{result.stderr}")
 
