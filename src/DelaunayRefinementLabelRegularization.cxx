@@ -1663,7 +1663,8 @@ private:
 } // namespace
 
 /** FindUnmarkedParts: the parts are the components of LabelComponents; each unmarked one's largest ball is measured
- * voxel by voxel, nearest cubes first, up to the limit. */
+ * by scans of the cubes around its voxels, nearest first, up to the limit: every voxel's for a small part, only the
+ * deepest voxels' for a large one. */
 class LabelParts::Finder
 {
 public:
@@ -1672,6 +1673,7 @@ public:
     : m_Components(labels, size, numberOfThreads)
     , m_Size(size)
     , m_Spacing(spacing)
+    , m_NumberOfThreads(numberOfThreads)
   {}
 
   std::vector<LabelPart>
@@ -1700,13 +1702,19 @@ public:
       parts[entry->second].voxels += length;
       runsOfPart[entry->second].emplace_back(first, length);
     });
-    const std::vector<CubeOffset> offsets = CubesNearestFirst(radiusLimit);
-    std::vector<LabelPart>        measured;
+    std::vector<LabelPart> measured;
     for (std::size_t part = 0; part < parts.size(); ++part)
     {
       if (parts[part].voxels <= maximumVoxels)
       {
-        MeasureLargestBall(parts[part], runsOfPart[part], offsets, radiusLimit);
+        if (parts[part].voxels < VoxelsForDeepestFirst)
+        {
+          MeasureVoxelByVoxel(parts[part], runsOfPart[part], radiusLimit);
+        }
+        else
+        {
+          MeasureDeepestFirst(parts[part], runsOfPart[part], radiusLimit);
+        }
         measured.push_back(parts[part]);
       }
     }
@@ -1714,6 +1722,14 @@ public:
   }
 
 private:
+  using Runs = std::vector<std::pair<std::size_t, std::size_t>>;
+
+  /** From this many voxels on, a part's largest ball is searched deepest voxels first (MeasureDeepestFirst): below
+   * it, no voxel is far from the part's boundary, and a scan of every voxel costs less than a distance transform of
+   * the part's box. A scan of every voxel costs the cubes within each voxel's clearance: on a part of 95 k voxels of
+   * 2 x 3 x 2 mm at δ = 80 mm (the brain mask, its clearance up to about 30 mm) it took 7 s. */
+  static constexpr std::size_t VoxelsForDeepestFirst = 256;
+
   /** A voxel's neighbour, with the distance from the voxel's centre to the neighbour's cube. */
   struct CubeOffset
   {
@@ -1721,16 +1737,30 @@ private:
     double              distance;
   };
 
-  /** The voxels whose cubes come closer than `radius` to a voxel's centre, nearest first (ties in a fixed order). */
-  std::vector<CubeOffset>
-  CubesNearestFirst(double radius) const
+  /** The distance from a voxel's centre to the cube of the voxel `step` away. */
+  double
+  CubeDistance(const std::array<long, 3> & step) const
+  {
+    double squared = 0.0;
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      const double gap = std::max(0.0, std::abs(static_cast<double>(step[axis])) - 0.5) * m_Spacing[axis];
+      squared += gap * gap;
+    }
+    return std::sqrt(squared);
+  }
+
+  /** m_Offsets becomes the voxels whose cubes come closer than `radius` to a voxel's centre, nearest first (ties in
+   * a fixed order); the voxels nearer than the radius it had come first, as the same set. */
+  void
+  GrowOffsets(double radius)
   {
     std::array<long, 3> reach{};
     for (int axis = 0; axis < 3; ++axis)
     {
       reach[axis] = static_cast<long>(std::ceil(radius / m_Spacing[axis] + 0.5));
     }
-    std::vector<CubeOffset> offsets;
+    m_Offsets.clear();
     for (long z = -reach[2]; z <= reach[2]; ++z)
     {
       for (long y = -reach[1]; y <= reach[1]; ++y)
@@ -1738,31 +1768,61 @@ private:
         for (long x = -reach[0]; x <= reach[0]; ++x)
         {
           const std::array<long, 3> step{ { x, y, z } };
-          double                    squared = 0.0;
-          for (int axis = 0; axis < 3; ++axis)
+          const double              distance = CubeDistance(step);
+          if (distance < radius && (x != 0 || y != 0 || z != 0))
           {
-            const double gap = std::max(0.0, std::abs(static_cast<double>(step[axis])) - 0.5) * m_Spacing[axis];
-            squared += gap * gap;
-          }
-          if (std::sqrt(squared) < radius && (x != 0 || y != 0 || z != 0))
-          {
-            offsets.push_back({ step, std::sqrt(squared) });
+            m_Offsets.push_back({ step, distance });
           }
         }
       }
     }
-    std::stable_sort(offsets.begin(), offsets.end(), [](const CubeOffset & a, const CubeOffset & b) {
+    std::stable_sort(m_Offsets.begin(), m_Offsets.end(), [](const CubeOffset & a, const CubeOffset & b) {
       return a.distance < b.distance;
     });
-    return offsets;
+    m_OffsetsRadius = radius;
+  }
+
+  /** The clearance of the voxel at `index` in the part `component`: the distance from its centre to the nearest
+   * cube outside the part (another label, another part, beyond the grid), `limit` when none is nearer. The cubes
+   * are tried nearest first; the list of them grows as a scan needs it, so that a large limit costs only what the
+   * clearances reach (the scans' answers do not depend on the order of cubes at the same distance). */
+  double
+  Clearance(const std::array<long, 3> & index, std::size_t component, double limit)
+  {
+    std::size_t next = 0;
+    while (true)
+    {
+      for (; next < m_Offsets.size() && m_Offsets[next].distance < limit; ++next)
+      {
+        const std::array<long, 3> & step = m_Offsets[next].step;
+        const std::array<long, 3>   other{ { index[0] + step[0], index[1] + step[1], index[2] + step[2] } };
+        if (!IsInside(other) || ComponentAt(OffsetOf(other)) != component)
+        {
+          return m_Offsets[next].distance;
+        }
+      }
+      if (next < m_Offsets.size() || m_OffsetsRadius >= limit)
+      {
+        return limit;
+      }
+      const double scanned = m_OffsetsRadius;
+      const double maximumSpacing = std::max({ m_Spacing[0], m_Spacing[1], m_Spacing[2] });
+      GrowOffsets(std::min(limit, std::max(2.0 * scanned, 4.0 * maximumSpacing)));
+      next = static_cast<std::size_t>(
+        std::lower_bound(m_Offsets.begin(),
+                         m_Offsets.end(),
+                         scanned,
+                         [](const CubeOffset & offset, double radius) { return offset.distance < radius; }) -
+        m_Offsets.begin());
+    }
   }
 
   /** The part's largest ball centred on one of its voxel centres that no cube outside it reaches, up to `limit`, and
-   * its centre (the first such voxel in the grid's order). A voxel whose cube face touches another part has a ball of
-   * radius 0 (its clearance: the first cube outside, nearest first). */
+   * its centre: the first such voxel in the order of the runs (the grid's), its clearance (Clearance). A voxel whose
+   * cube face touches another part has a ball of radius 0. Every voxel is scanned, in order, up to the first that
+   * reaches the limit. */
   void
-  MeasureLargestBall(LabelPart & part, const std::vector<std::pair<std::size_t, std::size_t>> & runs,
-                     const std::vector<CubeOffset> & offsets, double limit)
+  MeasureVoxelByVoxel(LabelPart & part, const Runs & runs, double limit)
   {
     const std::size_t component = ComponentAt(part.deepestVoxel);
     part.radius = -1.0;
@@ -1770,19 +1830,7 @@ private:
     {
       for (std::size_t voxel = first; voxel < first + length; ++voxel)
       {
-        const std::array<long, 3> index = IndexOf(voxel);
-        double                    clearance = limit;
-        for (const CubeOffset & offset : offsets)
-        {
-          const std::array<long, 3> other{
-            { index[0] + offset.step[0], index[1] + offset.step[1], index[2] + offset.step[2] }
-          };
-          if (!IsInside(other) || ComponentAt(OffsetOf(other)) != component)
-          {
-            clearance = offset.distance;
-            break;
-          }
-        }
+        const double clearance = Clearance(IndexOf(voxel), component, limit);
         if (clearance > part.radius)
         {
           part.radius = clearance;
@@ -1792,6 +1840,129 @@ private:
             return;
           }
         }
+      }
+    }
+  }
+
+  /** The same ball as MeasureVoxelByVoxel, scanning only the voxels that may hold it. A distance transform of the
+   * part's box (one voxel of margin, every voxel outside the part a site) gives each voxel a cube outside the part,
+   * its nearest site's: the distance to that cube bounds the voxel's clearance from above, and the distance to the
+   * site's centre less half the cube's diagonal from below. Only the voxels whose upper bound reaches the largest
+   * lower bound are candidates; they are scanned by decreasing upper bound, then in the runs' order, until the
+   * bound falls below the best clearance found. The best, and the first voxel in the runs' order that has it, are
+   * then what the scan of every voxel finds. */
+  void
+  MeasureDeepestFirst(LabelPart & part, const Runs & runs, double limit)
+  {
+    VoxelBox            box;
+    std::array<long, 3> highest{};
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      box.lower[axis] = std::numeric_limits<long>::max();
+      highest[axis] = std::numeric_limits<long>::min();
+    }
+    for (const auto & [first, length] : runs)
+    {
+      const std::array<long, 3> start = IndexOf(first);
+      for (int axis = 0; axis < 3; ++axis)
+      {
+        box.lower[axis] = std::min(box.lower[axis], start[axis] - 1);
+        highest[axis] = std::max(highest[axis], start[axis] + (axis == 0 ? static_cast<long>(length) : 1));
+      }
+    }
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      box.size[axis] = highest[axis] - box.lower[axis] + 1;
+    }
+    if (!NearestSiteTransform<int16_t>::Fits(box))
+    {
+      MeasureVoxelByVoxel(part, runs, limit);
+      return;
+    }
+    const auto inBox = [&box](const std::array<long, 3> & index) {
+      return static_cast<std::size_t>(index[0] - box.lower[0]) +
+             static_cast<std::size_t>(box.size[0]) *
+               (static_cast<std::size_t>(index[1] - box.lower[1]) +
+                static_cast<std::size_t>(box.size[1]) * static_cast<std::size_t>(index[2] - box.lower[2]));
+    };
+    NearestSiteTransform<int16_t> transform(box, m_Spacing);
+    for (std::size_t index = 0; index < box.NumberOfVoxels(); ++index)
+    {
+      transform.SetSite(index);
+    }
+    ForEachVoxel(runs, [&](std::size_t, std::size_t voxel) {
+      const std::array<long, 3> index = IndexOf(voxel);
+      transform.SetNotSite(inBox(index));
+      transform.AddQueryLine(static_cast<std::size_t>(index[0] - box.lower[0]) +
+                             static_cast<std::size_t>(box.size[0]) * static_cast<std::size_t>(index[1] - box.lower[1]));
+    });
+    transform.Compute([] {}, m_NumberOfThreads);
+
+    // A cube's farthest point from its centre, and a relative margin that keeps the bounds bounds under rounding.
+    const double halfDiagonal =
+      0.5 * std::sqrt(m_Spacing[0] * m_Spacing[0] + m_Spacing[1] * m_Spacing[1] + m_Spacing[2] * m_Spacing[2]);
+    constexpr double rounding = 1e-12;
+    const auto       upperBound = [&](std::size_t voxel) {
+      const std::size_t index = inBox(IndexOf(voxel));
+      return std::min(limit, CubeDistance(transform.StepToSite(index)) * (1.0 + rounding));
+    };
+    double largestLowerBound = -1.0;
+    ForEachVoxel(runs, [&](std::size_t, std::size_t voxel) {
+      const double centre = std::sqrt(transform.SquaredDistance(inBox(IndexOf(voxel))));
+      largestLowerBound = std::max(largestLowerBound, std::min(limit, (centre - halfDiagonal) * (1.0 - rounding)));
+    });
+    struct Candidate
+    {
+      double      upperBound;
+      std::size_t order;
+      std::size_t voxel;
+    };
+    std::vector<Candidate> candidates;
+    ForEachVoxel(runs, [&](std::size_t order, std::size_t voxel) {
+      const double bound = upperBound(voxel);
+      if (bound >= largestLowerBound)
+      {
+        candidates.push_back({ bound, order, voxel });
+      }
+    });
+    std::sort(candidates.begin(), candidates.end(), [](const Candidate & a, const Candidate & b) {
+      return a.upperBound != b.upperBound ? a.upperBound > b.upperBound : a.order < b.order;
+    });
+    const std::size_t component = ComponentAt(part.deepestVoxel);
+    part.radius = -1.0;
+    std::size_t bestOrder = std::numeric_limits<std::size_t>::max();
+    for (const Candidate & candidate : candidates)
+    {
+      if (candidate.upperBound < part.radius)
+      {
+        break;
+      }
+      const double clearance = Clearance(IndexOf(candidate.voxel), component, limit);
+      if (clearance > part.radius || (clearance == part.radius && candidate.order < bestOrder))
+      {
+        part.radius = clearance;
+        part.deepestVoxel = candidate.voxel;
+        bestOrder = candidate.order;
+      }
+      // The candidates reaching the limit come first, in the runs' order: the first to reach it is the answer.
+      if (part.radius >= limit)
+      {
+        return;
+      }
+    }
+  }
+
+  /** Calls visit(order, voxel) for the voxels of `runs`, in their order. */
+  template <typename TVisit>
+  static void
+  ForEachVoxel(const Runs & runs, TVisit && visit)
+  {
+    std::size_t order = 0;
+    for (const auto & [first, length] : runs)
+    {
+      for (std::size_t voxel = first; voxel < first + length; ++voxel)
+      {
+        visit(order++, voxel);
       }
     }
   }
@@ -1833,6 +2004,10 @@ private:
   LabelComponents            m_Components;
   std::array<std::size_t, 3> m_Size;
   Vector3                    m_Spacing;
+  unsigned int               m_NumberOfThreads;
+  /** The cubes nearest first, within m_OffsetsRadius (Clearance grows them). */
+  std::vector<CubeOffset> m_Offsets;
+  double                  m_OffsetsRadius{ 0.0 };
 };
 
 LabelParts::LabelParts(const Label * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing,

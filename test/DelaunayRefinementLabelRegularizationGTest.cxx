@@ -568,16 +568,16 @@ UnmarkedPartsByDefinition(const Grid & grid, const std::vector<std::size_t> & ma
     {
       const std::array<long, 3> index = indexOf(voxel);
       double                    clearance = limit;
-      const long                reach = 12;
-      for (long dk = -reach; dk <= reach; ++dk)
+      // Every cube of the grid and of the layer around it: a cube farther out is farther than the layer's.
+      for (long k = -1; k <= static_cast<long>(grid.size[2]); ++k)
       {
-        for (long dj = -reach; dj <= reach; ++dj)
+        for (long j = -1; j <= static_cast<long>(grid.size[1]); ++j)
         {
-          for (long di = -reach; di <= reach; ++di)
+          for (long i = -1; i <= static_cast<long>(grid.size[0]); ++i)
           {
-            const long i = index[0] + di;
-            const long j = index[1] + dj;
-            const long k = index[2] + dk;
+            const long di = i - index[0];
+            const long dj = j - index[1];
+            const long dk = k - index[2];
             const bool inside = i >= 0 && j >= 0 && k >= 0 && i < static_cast<long>(grid.size[0]) &&
                                 j < static_cast<long>(grid.size[1]) && k < static_cast<long>(grid.size[2]);
             if (inside && partOf[offsetOf(i, j, k)] == part)
@@ -630,6 +630,69 @@ TEST(UnmarkedParts, AreThePartsTheDefinitionGives)
         std::vector<LabelPart> found =
           FindUnmarkedParts(grid.labels.data(), grid.size, spacing, marked, limit, threads);
         // Both list the parts in the order of their first voxel (the definition's flood fills start there).
+        ASSERT_EQ(found.size(), expected.size());
+        for (std::size_t part = 0; part < found.size(); ++part)
+        {
+          EXPECT_EQ(found[part].label, expected[part].label) << "part " << part;
+          EXPECT_EQ(found[part].voxels, expected[part].voxels) << "part " << part;
+          EXPECT_NEAR(found[part].radius, expected[part].radius, 1e-12) << "part " << part;
+          EXPECT_EQ(found[part].deepestVoxel, expected[part].deepestVoxel) << "part " << part;
+        }
+      }
+    }
+  }
+}
+
+/** Large parts, whose largest balls are searched from their deepest voxels (thousands of voxels, clearances of many
+ * voxels), beside small ones: the same answers as the definition's scan of every voxel, up to a limit inside the
+ * largest balls, one between, and one beyond every ball; on grids with anisotropic spacing, for 1 and 2 threads. */
+TEST(UnmarkedParts, LargePartsAreMeasuredAsTheDefinitionSays)
+{
+  const Size size{ { 26, 22, 18 } };
+  for (const Vector3 & spacing : { Vector3{ { 1.0, 1.0, 1.0 } }, Vector3{ { 0.7, 1.1, 1.6 } } })
+  {
+    Grid       grid{ size, spacing, std::vector<Label>(size[0] * size[1] * size[2], BackgroundLabel) };
+    const auto inside = [&](long i, long j, long k, const std::array<double, 3> & centre, double radius) {
+      const double x = (static_cast<double>(i) - centre[0]) * spacing[0];
+      const double y = (static_cast<double>(j) - centre[1]) * spacing[1];
+      const double z = (static_cast<double>(k) - centre[2]) * spacing[2];
+      return x * x + y * y + z * z <= radius * radius;
+    };
+    for (long k = 0; k < static_cast<long>(size[2]); ++k)
+    {
+      for (long j = 0; j < static_cast<long>(size[1]); ++j)
+      {
+        for (long i = 0; i < static_cast<long>(size[0]); ++i)
+        {
+          Label label = BackgroundLabel;
+          // A large ball of label 1 with a small ball of label 2 and a tunnel of background in it; a second large
+          // ball, of label 3, cut by the grid's faces.
+          if (inside(i, j, k, { { 10.0, 10.0, 8.0 } }, 9.0))
+          {
+            label = inside(i, j, k, { { 12.0, 8.0, 8.0 } }, 2.5) ? 2 : (j == 10 && k == 6 ? BackgroundLabel : 1);
+          }
+          else if (inside(i, j, k, { { 25.0, 21.0, 17.0 } }, 8.0))
+          {
+            label = 3;
+          }
+          grid.labels[static_cast<std::size_t>(i) +
+                      size[0] * (static_cast<std::size_t>(j) + size[1] * static_cast<std::size_t>(k))] = label;
+        }
+      }
+    }
+    for (const double limit : { 1.5, 3.0, 100.0 })
+    {
+      const std::vector<LabelPart> expected = UnmarkedPartsByDefinition(grid, {}, limit);
+      const std::size_t            largest =
+        std::max_element(expected.begin(), expected.end(), [](const LabelPart & a, const LabelPart & b) {
+          return a.voxels < b.voxels;
+        })->voxels;
+      ASSERT_GT(largest, 1000U) << "the grid has no large part to test";
+      for (const unsigned int threads : { 1U, 2U })
+      {
+        SCOPED_TRACE("spacing " + std::to_string(spacing[2]) + ", limit " + std::to_string(limit) + ", " +
+                     std::to_string(threads) + " threads");
+        const std::vector<LabelPart> found = FindUnmarkedParts(grid.labels.data(), size, spacing, {}, limit, threads);
         ASSERT_EQ(found.size(), expected.size());
         for (std::size_t part = 0; part < found.size(); ++part)
         {
