@@ -2,14 +2,21 @@
 
     delaunay-bench --images brain-mask,atlas-phantom --ours-only --runs 1 --write-images IMAGES
     /usr/bin/python3 bench/topology_bar.py PROGRAM IMAGES brain-mask:3 atlas-phantom:1 ... [--rounds N]
+        [--cgal CGAL_PROGRAM]
 
-PROGRAM is delaunay-image-to-mesh; each IMAGE:SPACING names IMAGES/IMAGE.nrrd and its largest voxel spacing (mm).
+PROGRAM is delaunay-image-to-mesh; each IMAGE:SPACING names IMAGES/IMAGE.nrrd and its largest voxel spacing (mm);
+IMAGE:SPACING:FIRST starts at FIRST times the spacing instead of 1 (a mesh too large for the machine at 1 ×).
 For delta = 1 to 6 times the spacing the script meshes the image with the defaults (with --distance) and with the
 method alone (no regularisation, no pinch removal, no relabelling, no topology rounds), then times N paired rounds
 of both (the mesh phase of the report: the whole filter). It checks every default mesh's topology itself, from the
 .vtu file, with the command-line tests' independent checker (no library code): every tissue's boundary and the
 union's must be closed 2-manifolds. Tetrahedra are also counted at 1.25, 1.5 and 2.5 times the spacing, so that the
 series delta, 1.25 delta, 1.5 delta, 2 delta, 3 delta can be read from delta = 1 and 2 times the spacing.
+
+With --cgal (delaunay-bench-cgal-mesh) each row also gets CGAL Mesh_3 on the same image and delta, as the bench runs
+it (no optimisers, facet_size = delta, facet_distance searched so that neither our mean nor our p95 distance is worse
+than CGAL's by more than 10 %): its tetrahedra, the same independent count of non-manifold edges and vertices on its
+mesh, and its time (image conversion and make_mesh_3) in the same paired rounds, against our whole filter.
 
 Prints Markdown: one row per image and delta, then the delta series and the per-tissue volume changes.
 """
@@ -54,19 +61,43 @@ def independent_defects(path):
     return edges, vertices
 
 
-def measure(program, image, delta, rounds):
+def cgal_mesh(cgal_program, image, delta, matching, keep_mesh=None):
+    """What delaunay-bench-cgal-mesh printed (its JSON line), with `matching` its facet-distance options."""
+    with tempfile.TemporaryDirectory() as directory:
+        output = keep_mesh or os.path.join(directory, "cgal.vtu")
+        result = subprocess.run([cgal_program, image, output, "-d", repr(delta)] + matching, check=True,
+                                capture_output=True, text=True)
+        return json.loads(result.stdout.splitlines()[0])
+
+
+def measure(program, image, delta, rounds, cgal_program=None):
     with tempfile.TemporaryDirectory() as directory:
         path = os.path.join(directory, "defaults.vtu")
         defaults = mesh(program, image, delta, [], keep_mesh=path, distance=True)
         row = {"delta": delta, "defaults": defaults, "independent": independent_defects(path)}
+        if cgal_program:
+            distance = defaults["distance_to_marching_cubes"]
+            cgal_path = os.path.join(directory, "cgal.vtu")
+            row["cgal"] = cgal_mesh(cgal_program, image, delta,
+                                    ["--match-mean-distance", repr(distance["mean_mm"]),
+                                     "--match-p95-distance", repr(distance["percentile95_mm"])], keep_mesh=cgal_path)
+            row["cgal_independent"] = independent_defects(cgal_path)
     row["alone"] = mesh(program, image, delta, ALONE)
-    alone_seconds, default_seconds = [], []
+    alone_seconds, default_seconds, cgal_seconds = [], [], []
     for _ in range(rounds):
         alone_seconds.append(mesh(program, image, delta, ALONE)["time_seconds"]["mesh"])
         default_seconds.append(mesh(program, image, delta, [])["time_seconds"]["mesh"])
+        if cgal_program:
+            matched = ["--facet-distance", repr(row["cgal"]["facet_distance_mm"])] \
+                if row["cgal"]["facet_distance_mm"] > 0 else []
+            cgal_seconds.append(cgal_mesh(cgal_program, image, delta, matched)["seconds"])
     ratios = [b / a for a, b in zip(alone_seconds, default_seconds)]
     row.update(alone_s=statistics.median(alone_seconds), default_s=statistics.median(default_seconds),
                ratio=statistics.median(ratios), ratio_range=(min(ratios), max(ratios)))
+    if cgal_program:
+        cgal_ratios = [ours / cgal for ours, cgal in zip(default_seconds, cgal_seconds)]
+        row.update(cgal_s=statistics.median(cgal_seconds), cgal_ratio=statistics.median(cgal_ratios),
+                   cgal_ratio_range=(min(cgal_ratios), max(cgal_ratios)))
     return row
 
 
@@ -80,25 +111,46 @@ def table_row(name, multiple, row):
             f"{quality['non_manifold_vertices']}, {row['independent'][0]} / {row['independent'][1]} | "
             f"{distance['mean_mm'] / delta:.3f} / {distance['percentile95_mm'] / delta:.3f} | "
             f"{quality['min_dihedral_angle_deg']:.2f}° / {quality['max_radius_edge_ratio']:.3f} / "
-            f"{quality['min_boundary_planar_angle_deg']:.2f}° |")
+            f"{quality['min_boundary_planar_angle_deg']:.2f}° |" + cgal_cells(row))
 
 
-def main(program, image_directory, cases, rounds):
-    print("| image, δ (× voxel) | tetrahedra: defaults / alone (ratio) | time s: defaults / alone, paired ratio "
-          "(range) | non-manifold edges / vertices: report, independent | distance mean / p95 (× δ) | "
-          "min dihedral / max radius-edge / min boundary angle |")
-    print("|---|---|---|---|---|---|")
+def cgal_cells(row):
+    """The CGAL columns of a row (none without --cgal)."""
+    if "cgal" not in row:
+        return ""
+    cgal, defaults = row["cgal"], row["defaults"]
+    low, high = row["cgal_ratio_range"]
+    matched = "" if cgal["matched"] else ", not matched"
+    return (f" {cgal['tetrahedra']:,} ({defaults['tetrahedra'] / cgal['tetrahedra']:.2f}) | "
+            f"{row['cgal_s']:.3f}, **{row['cgal_ratio']:.2f}** ({low:.2f}-{high:.2f}) | "
+            f"{row['cgal_independent'][0]} / {row['cgal_independent'][1]} | "
+            f"{cgal['facet_distance_mm']:g}: {cgal['matched_mean_distance_mm'] / row['delta']:.3f} / "
+            f"{cgal['matched_percentile95_distance_mm'] / row['delta']:.3f}{matched} |")
+
+
+def main(program, image_directory, cases, rounds, cgal_program=None):
+    header = ("| image, δ (× voxel) | tetrahedra: defaults / alone (ratio) | time s: defaults / alone, paired ratio "
+              "(range) | non-manifold edges / vertices: report, independent | distance mean / p95 (× δ) | "
+              "min dihedral / max radius-edge / min boundary angle |")
+    columns = 6
+    if cgal_program:
+        header += (" CGAL tetrahedra (ours / CGAL) | CGAL time s, ours / CGAL paired (range) | CGAL non-manifold "
+                   "edges / vertices, independent | CGAL facet_distance mm: distance mean / p95 (× δ) |")
+        columns += 4
+    print(header)
+    print("|" + "---|" * columns)
     series, volumes = {}, {}
     for case in cases:
-        name, spacing = case.split(":")
+        name, spacing, *first = case.split(":")
+        first_multiple = float(first[0]) if first else 1.0
         image = os.path.join(image_directory, name + ".nrrd")
         counts = {}
-        for multiple in sorted(TIMED_MULTIPLES + SERIES_ONLY_MULTIPLES):
+        for multiple in sorted(m for m in TIMED_MULTIPLES + SERIES_ONLY_MULTIPLES if m >= first_multiple):
             delta = multiple * float(spacing)
             if multiple in SERIES_ONLY_MULTIPLES:
                 counts[multiple] = mesh(program, image, delta, [])["tetrahedra"]
                 continue
-            row = measure(program, image, delta, rounds)
+            row = measure(program, image, delta, rounds, cgal_program)
             counts[multiple] = row["defaults"]["tetrahedra"]
             print(table_row(name, multiple, row), flush=True)
             changes = [100.0 * (label["mesh_volume_mm3"] - label["segmented_volume_mm3"]) / label["segmented_volume_mm3"]
@@ -128,6 +180,11 @@ if __name__ == "__main__":
         position = arguments.index("--rounds")
         rounds = int(arguments[position + 1])
         del arguments[position:position + 2]
+    cgal_program = None
+    if "--cgal" in arguments:
+        position = arguments.index("--cgal")
+        cgal_program = arguments[position + 1]
+        del arguments[position:position + 2]
     if len(arguments) < 3:
         sys.exit(__doc__)
-    main(arguments[0], arguments[1], arguments[2:], rounds)
+    main(arguments[0], arguments[1], arguments[2:], rounds, cgal_program)
