@@ -7,7 +7,8 @@
 PROGRAM is delaunay-image-to-mesh; each IMAGE:SPACING names IMAGES/IMAGE.nrrd and its largest voxel spacing (mm);
 IMAGE:SPACING:FIRST starts at FIRST times the spacing instead of 1 (a mesh too large for the machine at 1 ×).
 For delta = 1 to 6 times the spacing the script meshes the image with the defaults (with --distance) and with the
-method alone (no regularisation, no pinch removal, no relabelling, no topology rounds), then times N paired rounds
+method alone (no regularisation, no pinch removal, no relabelling, no topology rounds, no thick-part refinement),
+then times N paired rounds
 of both (the mesh phase of the report: the whole filter). It checks every default mesh's topology itself, from the
 .vtu file, with the command-line tests' independent checker (no library code): every tissue's boundary and the
 union's must be closed 2-manifolds. Tetrahedra are also counted at 1.25, 1.5 and 2.5 times the spacing, so that the
@@ -32,7 +33,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import DelaunayImageToMeshCommandLineIndependentQuality as independent  # noqa: E402
 
 ALONE = ["--regularization-scale", "0", "--topology-rounds", "0", "--no-topology-relabelling",
-         "--keep-diagonal-voxels"]
+         "--keep-diagonal-voxels", "--no-thick-part-refinement"]
 TIMED_MULTIPLES = [1, 2, 3, 4, 5, 6]
 SERIES_ONLY_MULTIPLES = [1.25, 1.5, 2.5]
 

@@ -88,6 +88,7 @@ struct Options
   double                   regularizationScale{ FilterDefaults::DefaultRegularizationScale };
   unsigned int             topologyRegularizationRounds{ RefinementParameters{}.topologyRegularizationRounds };
   bool                     keepNonManifoldPlaces{ !RefinementParameters{}.relabelNonManifoldPlaces };
+  bool                     keepThickPartsUnrefined{ !RefinementParameters{}.refineThickParts };
   unsigned int             manifoldRefinementLevels{ RefinementParameters{}.manifoldRefinementLevels };
   std::optional<double>    isoValue;
   std::size_t              maximumNumberOfVertices{ RefinementParameters{}.maximumNumberOfVertices };
@@ -262,6 +263,10 @@ AddOptions(CLI::App & app, Options & options)
                options.keepNonManifoldPlaces,
                "do not give tetrahedra a neighbour's label where a boundary is not a\nmanifold (default: a cone "
                "there is cut off or a gap filled when that mends\nthe place and keeps the 30 degree bound)");
+  app.add_flag("--no-thick-part-refinement",
+               options.keepThickPartsUnrefined,
+               "do not sample more finely the parts of a tissue that hold a ball of diameter\ndelta but would get no "
+               "tetrahedron (default: each gets tetrahedra); the\nparts left without one are reported all the same");
   app.add_option("--manifold-levels", options.manifoldRefinementLevels)
     ->description("the old repair, opt-in: halve delta up to N times where a boundary is still\nnot a manifold "
                   "(meshes several times larger; default 0 = off)")
@@ -440,6 +445,7 @@ MakeFilter(const TImage * image, const Options & options)
   filter->SetRegularizationScale(options.regularizationScale);
   filter->SetTopologyRegularizationRounds(options.topologyRegularizationRounds);
   filter->SetRelabelNonManifoldPlaces(!options.keepNonManifoldPlaces);
+  filter->SetRefineThickParts(!options.keepThickPartsUnrefined);
   filter->SetManifoldRefinementLevels(options.manifoldRefinementLevels);
   if (options.isoValue)
   {

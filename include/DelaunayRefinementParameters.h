@@ -63,6 +63,12 @@ struct RefinementParameters
    * place and keeps the boundary on the surface with angles above 30° (docs/algorithm.md, "Topology"); the
    * regularisation rounds then see only the places this could not mend. */
   bool relabelNonManifoldPlaces{ true };
+  /** Where the oracle is a LabelPartCensus: every part of the labels that holds a ball of diameter δ gets
+   * tetrahedra. The small thin parts are sampled more finely before the refinement, and a part still without a
+   * tetrahedron after it gets rounds of finer sampling (docs/algorithm.md, "Topology", step 4). Off, no part is
+   * sampled more finely; the parts without a tetrahedron are listed all the same
+   * (RefinementStatistics::unmeshedParts): nothing is lost silently. */
+  bool refineThickParts{ true };
   /** The old repair, an opt-in: where a tissue's boundary comes out non-manifold, δ is halved locally and the
    * refinement resumed, at most this many times (down to δ / 2^levels), after the regularisation rounds. It
    * resolves detail toward the voxel instead of removing it: meshes several times larger. 0 (the default) = off.

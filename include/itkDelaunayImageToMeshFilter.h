@@ -172,6 +172,14 @@ public:
   itkSetMacro(RelabelNonManifoldPlaces, bool);
   itkGetConstMacro(RelabelNonManifoldPlaces, bool);
   itkBooleanMacro(RelabelNonManifoldPlaces);
+  /** Every part of a tissue that holds a ball of diameter δ gets tetrahedra: a small thin part is sampled more
+   * finely, and a part the mesh still lost is sampled again more finely (docs/algorithm.md, "Topology", step 4).
+   * Off, such a part may be left without a tetrahedron; it is listed all the same (GetRefinementStatistics()'s
+   * unmeshedParts, the report's parts_without_tetrahedra). Default
+   * delaunay_refinement::RefinementParameters{}.refineThickParts (on). */
+  itkSetMacro(RefineThickParts, bool);
+  itkGetConstMacro(RefineThickParts, bool);
+  itkBooleanMacro(RefineThickParts);
   /** How many output tetrahedra the last update relabelled at non-manifold places (RelabelNonManifoldPlaces).
    * Reads the member, not GetRefinementStatistics(), which the wrapping parser does not see. */
   SizeValueType
@@ -334,6 +342,7 @@ private:
     delaunay_refinement::RefinementParameters{}.topologyRegularizationRounds
   };
   bool          m_RelabelNonManifoldPlaces{ delaunay_refinement::RefinementParameters{}.relabelNonManifoldPlaces };
+  bool          m_RefineThickParts{ delaunay_refinement::RefinementParameters{}.refineThickParts };
   SizeValueType m_NumberOfLocallyRegularizedVoxels{ 0 };
   SizeValueType m_NumberOfJoiningVoxels{ 0 };
   InterpolatorPointer m_Interpolator;

@@ -191,6 +191,7 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
   parameters.manifoldRefinementLevels = m_ManifoldRefinementLevels;
   parameters.topologyRegularizationRounds = m_TopologyRegularizationRounds;
   parameters.relabelNonManifoldPlaces = m_RelabelNonManifoldPlaces;
+  parameters.refineThickParts = m_RefineThickParts;
   // A bridge or slit one voxel thick (a joined diagonal contact is one) needs samples closer than a voxel; below
   // half a voxel, finer sampling would resolve the corners where voxels still touch diagonally (two tissues, or
   // at a vertex): never more manifold.
@@ -377,6 +378,7 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf(std::ostream & os
   os << indent << "TopologyRegularizationRounds: " << m_TopologyRegularizationRounds << std::endl;
   os << indent << "NumberOfLocallyRegularizedVoxels: " << m_NumberOfLocallyRegularizedVoxels << std::endl;
   os << indent << "RelabelNonManifoldPlaces: " << (m_RelabelNonManifoldPlaces ? "On" : "Off") << std::endl;
+  os << indent << "RefineThickParts: " << (m_RefineThickParts ? "On" : "Off") << std::endl;
   os << indent << "RadiusEdgeBound: " << m_RadiusEdgeBound << std::endl;
   os << indent << "MinimumDihedralAngle: " << m_MinimumDihedralAngle << std::endl;
   os << indent << "MaximumNumberOfVertices: " << m_MaximumNumberOfVertices << std::endl;

@@ -422,7 +422,7 @@ private:
   void
   SampleThinPartsFinely()
   {
-    if (!m_Census)
+    if (!m_Census || !m_Parameters.refineThickParts)
     {
       return;
     }
@@ -464,7 +464,7 @@ private:
       std::vector<Ball>         zones;
       for (const UnmeshedPart & part : parts)
       {
-        if (round < ThickPartRounds && IsThick(part))
+        if (m_Parameters.refineThickParts && round < ThickPartRounds && IsThick(part))
         {
           // The part's surface near the ball is within its radius of the centre, and the facets there have
           // circumradii below the local δ: a zone of the radius plus twice that holds them.

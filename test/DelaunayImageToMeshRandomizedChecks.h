@@ -277,6 +277,7 @@ struct FilterSettings
   double regularizationScale{ DelaunayImageToMeshFilter<Image<uint8_t, 3>, MeshType>::DefaultRegularizationScale };
   unsigned int topologyRegularizationRounds{ dr::RefinementParameters{}.topologyRegularizationRounds };
   bool         relabelNonManifoldPlaces{ dr::RefinementParameters{}.relabelNonManifoldPlaces };
+  bool         refineThickParts{ dr::RefinementParameters{}.refineThickParts };
   /** The filter's default: voxels of a tissue touching only along an edge are joined (nearest-neighbour labels). */
   bool joinDiagonalVoxels{ true };
   /** Wall-clock budget of one run; the run is aborted through AbortGenerateData when it is exceeded. */
@@ -300,6 +301,7 @@ HasTheTopologyDefaults(const FilterSettings & settings)
   const FilterSettings defaults;
   return settings.regularizationScale == defaults.regularizationScale &&
          settings.relabelNonManifoldPlaces == defaults.relabelNonManifoldPlaces &&
+         settings.refineThickParts == defaults.refineThickParts &&
          settings.topologyRegularizationRounds == defaults.topologyRegularizationRounds &&
          settings.manifoldRefinementLevels == defaults.manifoldRefinementLevels &&
          settings.joinDiagonalVoxels == defaults.joinDiagonalVoxels && !settings.isoValue;
@@ -363,6 +365,10 @@ DescribeTopologySettings(const FilterSettings & settings)
   if (!settings.relabelNonManifoldPlaces)
   {
     text << ", no relabelling";
+  }
+  if (!settings.refineThickParts)
+  {
+    text << ", no thick-part refinement";
   }
   return text.str();
 }
@@ -1392,6 +1398,7 @@ RunAndCheck(const TImage * image, const FilterSettings & settings)
   filter->SetRegularizationScale(settings.regularizationScale);
   filter->SetTopologyRegularizationRounds(settings.topologyRegularizationRounds);
   filter->SetRelabelNonManifoldPlaces(settings.relabelNonManifoldPlaces);
+  filter->SetRefineThickParts(settings.refineThickParts);
   if (settings.isoValue)
   {
     filter->SetIsoValue(*settings.isoValue);

@@ -1252,6 +1252,24 @@ TEST(RandomizedRegression, ComponentsADeltaAcrossAreMeshed)
   EXPECT_GT(report.result.thickComponents, 0u) << "the case is no longer the one";
 }
 
+/** The same case with RefineThickParts off, the opt-out of that sampling: the thick parts are lost again, and listed.
+ * Every problem the checks find must be such a part without a tetrahedron (the suite's own count from the voxels and
+ * the mesh), and none the list of the parts without one, which must equal that count. */
+TEST(RandomizedRegression, ThickPartsLostWithTheirRefinementOffAreListed)
+{
+  RandomCase randomCase = MakeRecordedCase(Family::Mixed, 8000038);
+  randomCase.settings.relabelNonManifoldPlaces = false;
+  randomCase.settings.refineThickParts = false;
+  const CaseReport report = RunCase(randomCase);
+  ASSERT_EQ(report.result.outcome, Outcome::Mesh);
+  ASSERT_FALSE(report.problems.empty()) << "no thick part lost: the option turned nothing off";
+  for (const std::string & problem : report.problems)
+  {
+    EXPECT_NE(problem.find("delta but no tetrahedron"), std::string::npos) << problem;
+  }
+  EXPECT_GT(report.result.unmeshedComponents, 0u);
+}
+
 // ---- Known defects, pinned: when one is fixed its test fails, and the check it is excused from gets strict -----
 
 /** With ρ = 1 and σ > 0 the sliver removal may not end: R4 splits every tissue tetrahedron whose radius-edge ratio

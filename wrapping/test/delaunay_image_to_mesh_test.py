@@ -79,6 +79,7 @@ def check_topology_options():
     assert filter_.GetTopologyRegularizationRounds() == 20, f"rounds {filter_.GetTopologyRegularizationRounds()}"
     assert filter_.GetRelabelNonManifoldPlaces(), "relabelling non-manifold places is the default"
     assert filter_.GetManifoldRefinementLevels() == 0, "the old delta halving is opt-in"
+    assert filter_.GetRefineThickParts(), "every part a delta across gets tetrahedra by default"
     filter_.SetRelabelNonManifoldPlaces(False)
     filter_.Update()
     assert not filter_.GetRelabelNonManifoldPlaces()
