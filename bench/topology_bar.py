@@ -5,7 +5,8 @@
         [--cgal CGAL_PROGRAM]
 
 PROGRAM is delaunay-image-to-mesh; each IMAGE:SPACING names IMAGES/IMAGE.nrrd and its largest voxel spacing (mm);
-IMAGE:SPACING:FIRST starts at FIRST times the spacing instead of 1 (a mesh too large for the machine at 1 ×).
+IMAGE:SPACING:FIRST starts at FIRST times the spacing instead of 1 (a mesh too large for the machine at 1 ×), and
+IMAGE:SPACING:FIRST:LAST stops at LAST times (such a large mesh measured alone).
 For delta = 1 to 6 times the spacing the script meshes the image with the defaults (with --distance) and with the
 method alone (no regularisation, no pinch removal, no relabelling, no topology rounds, no thick-part refinement),
 then times N paired rounds
@@ -142,11 +143,13 @@ def main(program, image_directory, cases, rounds, cgal_program=None):
     print("|" + "---|" * columns)
     series, volumes = {}, {}
     for case in cases:
-        name, spacing, *first = case.split(":")
-        first_multiple = float(first[0]) if first else 1.0
+        name, spacing, *multiples = case.split(":")
+        first_multiple = float(multiples[0]) if multiples else 1.0
+        last_multiple = float(multiples[1]) if len(multiples) > 1 else max(TIMED_MULTIPLES)
         image = os.path.join(image_directory, name + ".nrrd")
         counts = {}
-        for multiple in sorted(m for m in TIMED_MULTIPLES + SERIES_ONLY_MULTIPLES if m >= first_multiple):
+        for multiple in sorted(m for m in TIMED_MULTIPLES + SERIES_ONLY_MULTIPLES
+                               if first_multiple <= m <= last_multiple):
             delta = multiple * float(spacing)
             if multiple in SERIES_ONLY_MULTIPLES:
                 counts[multiple] = mesh(program, image, delta, [])["tetrahedra"]
