@@ -602,6 +602,21 @@ UnmarkedPartsByDefinition(const Grid & grid, const std::vector<std::size_t> & ma
   return parts;
 }
 
+/** `found` lists the parts `expected` lists, in the same order (both that of the parts' first voxels: the
+ * definition's flood fills start there), with the same labels, voxels, largest balls and their centres. */
+void
+ExpectTheSameParts(const std::vector<LabelPart> & found, const std::vector<LabelPart> & expected)
+{
+  ASSERT_EQ(found.size(), expected.size());
+  for (std::size_t part = 0; part < found.size(); ++part)
+  {
+    EXPECT_EQ(found[part].label, expected[part].label) << "part " << part;
+    EXPECT_EQ(found[part].voxels, expected[part].voxels) << "part " << part;
+    EXPECT_NEAR(found[part].radius, expected[part].radius, 1e-12) << "part " << part;
+    EXPECT_EQ(found[part].deepestVoxel, expected[part].deepestVoxel) << "part " << part;
+  }
+}
+
 /** Random blobs, a sheet and speckle of three labels on anisotropic grids; a random tenth of the voxels marked. Every
  * unmarked part must be found, with its label, its voxels, and its largest ball's radius and centre (up to a limit
  * below the largest parts' balls, and one above every ball), whatever the number of threads. */
@@ -627,17 +642,7 @@ TEST(UnmarkedParts, AreThePartsTheDefinitionGives)
       {
         SCOPED_TRACE("spacing " + std::to_string(spacing[2]) + ", limit " + std::to_string(limit) + ", " +
                      std::to_string(threads) + " threads");
-        std::vector<LabelPart> found =
-          FindUnmarkedParts(grid.labels.data(), grid.size, spacing, marked, limit, threads);
-        // Both list the parts in the order of their first voxel (the definition's flood fills start there).
-        ASSERT_EQ(found.size(), expected.size());
-        for (std::size_t part = 0; part < found.size(); ++part)
-        {
-          EXPECT_EQ(found[part].label, expected[part].label) << "part " << part;
-          EXPECT_EQ(found[part].voxels, expected[part].voxels) << "part " << part;
-          EXPECT_NEAR(found[part].radius, expected[part].radius, 1e-12) << "part " << part;
-          EXPECT_EQ(found[part].deepestVoxel, expected[part].deepestVoxel) << "part " << part;
-        }
+        ExpectTheSameParts(FindUnmarkedParts(grid.labels.data(), grid.size, spacing, marked, limit, threads), expected);
       }
     }
   }
@@ -692,15 +697,7 @@ TEST(UnmarkedParts, LargePartsAreMeasuredAsTheDefinitionSays)
       {
         SCOPED_TRACE("spacing " + std::to_string(spacing[2]) + ", limit " + std::to_string(limit) + ", " +
                      std::to_string(threads) + " threads");
-        const std::vector<LabelPart> found = FindUnmarkedParts(grid.labels.data(), size, spacing, {}, limit, threads);
-        ASSERT_EQ(found.size(), expected.size());
-        for (std::size_t part = 0; part < found.size(); ++part)
-        {
-          EXPECT_EQ(found[part].label, expected[part].label) << "part " << part;
-          EXPECT_EQ(found[part].voxels, expected[part].voxels) << "part " << part;
-          EXPECT_NEAR(found[part].radius, expected[part].radius, 1e-12) << "part " << part;
-          EXPECT_EQ(found[part].deepestVoxel, expected[part].deepestVoxel) << "part " << part;
-        }
+        ExpectTheSameParts(FindUnmarkedParts(grid.labels.data(), size, spacing, {}, limit, threads), expected);
       }
     }
   }
