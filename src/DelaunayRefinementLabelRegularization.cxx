@@ -1890,11 +1890,12 @@ private:
     {
       transform.SetSite(index);
     }
+    // A voxel's line along z is its index in the box modulo a slice.
+    const std::size_t voxelsPerSlice = static_cast<std::size_t>(box.size[0] * box.size[1]);
     ForEachVoxel(runs, [&](std::size_t, std::size_t voxel) {
-      const std::array<long, 3> index = IndexOf(voxel);
-      transform.SetNotSite(inBox(index));
-      transform.AddQueryLine(static_cast<std::size_t>(index[0] - box.lower[0]) +
-                             static_cast<std::size_t>(box.size[0]) * static_cast<std::size_t>(index[1] - box.lower[1]));
+      const std::size_t index = inBox(IndexOf(voxel));
+      transform.SetNotSite(index);
+      transform.AddQueryLine(index % voxelsPerSlice);
     });
     transform.Compute([] {}, m_NumberOfThreads);
 
