@@ -34,14 +34,15 @@
 // DelaunayRefinementMesher.cxx).
 
 #include "DelaunayRefinementGeometry.h"
-#include "DelaunayRefinementManifoldRepair.h"
 #include "DelaunayRefinementMeshState.h"
 #include "DelaunayRefinementSizing.h"
+#include "DelaunayRefinementVertexLinks.h"
 
 #include <algorithm>
 #include <array>
+#include <iterator>
+#include <map>
 #include <optional>
-#include <set>
 #include <utility>
 #include <vector>
 
@@ -53,11 +54,9 @@ namespace detail
 class FlatCaps
 {
 public:
-  FlatCaps(const MeshState & state, const LocalSampling & sizing, const ManifoldRepair & repair,
-           double minimumDihedralAngle)
+  FlatCaps(const MeshState & state, const LocalSampling & sizing, double minimumDihedralAngle)
     : m_State(state)
     , m_Sizing(sizing)
-    , m_Repair(repair)
     , m_DihedralBound(minimumDihedralAngle)
   {}
 
@@ -124,7 +123,11 @@ public:
     {
       return {};
     }
-    const std::set<Vector3> nonManifoldBefore = NonManifoldPoints();
+    // Only the caps' corners' stars change, so only their links are tested (VertexLinks, the local form of
+    // ManifoldRepair::FindNonManifoldPlaces): two walks over the whole mesh had cost 40-60 ms of the atlas phantom
+    // at 2 mm and the k-means tissues at 4 mm with σ = 15°.
+    const std::vector<VertexHandle>    corners = CornersOf(caps);
+    const std::map<VertexHandle, bool> nonManifoldBefore = NonManifoldAmong(corners);
     for (auto & [cell, label] : caps)
     {
       std::swap(cell->cache.label, label);
@@ -133,7 +136,7 @@ public:
     for (bool reverted = true; reverted;)
     {
       reverted = false;
-      const std::set<Vector3> nonManifoldAfter = NonManifoldPoints();
+      const std::map<VertexHandle, bool> nonManifoldAfter = NonManifoldAmong(corners);
       for (auto & [cell, label] : caps)
       {
         if (label == cell->cache.label || !MakesAnyNew(cell, nonManifoldBefore, nonManifoldAfter))
@@ -208,21 +211,48 @@ private:
     return true;
   }
 
-  std::set<Vector3>
-  NonManifoldPoints() const
+  /** The caps' corners, each once. */
+  static std::vector<VertexHandle>
+  CornersOf(const std::vector<std::pair<CellHandle, Label>> & caps)
   {
-    const std::vector<Vector3> points = m_Repair.FindNonManifoldPlaces().points;
-    return std::set<Vector3>(points.begin(), points.end());
+    std::vector<VertexHandle> corners;
+    for (const auto & cap : caps)
+    {
+      for (int corner = 0; corner < 4; ++corner)
+      {
+        corners.push_back(cap.first->vertex(corner));
+      }
+    }
+    std::sort(corners.begin(), corners.end());
+    corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+    return corners;
+  }
+
+  /** Whether some boundary (a tissue's or the union's) is not a manifold at each of `vertices`, with the labels as
+   * they are now. */
+  std::map<VertexHandle, bool>
+  NonManifoldAmong(const std::vector<VertexHandle> & vertices) const
+  {
+    const Triangulation &        triangulation = m_State.GetTriangulation();
+    std::map<VertexHandle, bool> nonManifold;
+    std::vector<CellHandle>      star;
+    for (const VertexHandle vertex : vertices)
+    {
+      star.clear();
+      triangulation.incident_cells(vertex, std::back_inserter(star));
+      nonManifold.emplace(vertex, m_Links.NonManifoldLabelsAt(triangulation, vertex, star) > 0);
+    }
+    return nonManifold;
   }
 
   /** Whether one of the cell's corners is non-manifold now and was not before. */
-  bool
-  MakesAnyNew(CellHandle cell, const std::set<Vector3> & before, const std::set<Vector3> & after) const
+  static bool
+  MakesAnyNew(CellHandle cell, const std::map<VertexHandle, bool> & before, const std::map<VertexHandle, bool> & after)
   {
     for (int corner = 0; corner < 4; ++corner)
     {
-      const Vector3 point = m_State.PointOf(cell->vertex(corner));
-      if (after.count(point) != 0 && before.count(point) == 0)
+      const VertexHandle vertex = cell->vertex(corner);
+      if (after.at(vertex) && !before.at(vertex))
       {
         return true;
       }
@@ -232,8 +262,8 @@ private:
 
   const MeshState &        m_State;
   const LocalSampling &    m_Sizing;
-  const ManifoldRepair &   m_Repair;
   const DihedralAngleBound m_DihedralBound;
+  VertexLinks              m_Links;
 };
 
 } // namespace detail

@@ -336,7 +336,7 @@ private:
   void
   PeelFlatCaps()
   {
-    const FlatCaps          flatCaps(m_State, m_Sizing, m_Repair, m_Parameters.minimumDihedralAngle);
+    const FlatCaps          flatCaps(m_State, m_Sizing, m_Parameters.minimumDihedralAngle);
     FlatCaps::Relabelling & peeled = m_PeeledCaps;
     peeled = flatCaps.Relabel();
     for (int round = 0; !peeled.sliversKept.empty() && round < SliversThatCannotBePeeledRounds; ++round)
