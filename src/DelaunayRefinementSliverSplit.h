@@ -27,6 +27,7 @@
 // tetrahedra below ρ, new boundary triangles with surface vertices only and angles > 30°.
 
 #include "DelaunayRefinementBoxProtection.h"
+#include "DelaunayRefinementConflictRegions.h"
 #include "DelaunayRefinementGeometry.h"
 #include "DelaunayRefinementMeshState.h"
 #include "DelaunayRefinementRules.h"
@@ -110,6 +111,9 @@ public:
   Choose(CellHandle cell, const Vector3 & center, double squaredRadius) const
   {
     Split split = ChooseAmongCandidates(cell, center, squaredRadius);
+    // WillBeSplitByR3 pairs the region's boundary edges in the order CGAL's search lists the facets, and which end
+    // of a Voronoi edge its surface crossing starts from follows that order.
+    m_Regions.Clear();
     split.splitByR3 = split.accepted && WillBeSplitByR3(split, cell);
     return split;
   }
@@ -341,9 +345,17 @@ private:
     {
       return best;
     }
+    // The points around the circumcentre, whose conflict regions one search finds (ConflictRegions); the
+    // circumcentre alone is searched for on its own, since a third of the slivers end the search there.
+    std::vector<Vector3> aroundCenter;
     for (const Vector3 & direction : Directions())
     {
-      if (consider(center + (PickingRadius * radius) * direction, VertexKind::Free))
+      aroundCenter.push_back(center + (PickingRadius * radius) * direction);
+    }
+    m_Regions.Find(m_State.GetTriangulation(), cell, aroundCenter);
+    for (const Vector3 & point : aroundCenter)
+    {
+      if (consider(point, VertexKind::Free))
       {
         return best;
       }
@@ -405,7 +417,8 @@ private:
   /** The acceptance test and the score of inserting `point` as a vertex of `kind` to split `sliver`. Its new
    * tetrahedra are its conflict region's boundary facets joined to it; each carries the label at its circumcentre.
    * The labels are asked for only when the candidate's angles could beat `best`, since they cost an oracle query
-   * each. The conflict region stays in the members for MakesANonManifoldPlace. */
+   * each.
+   * The conflict region stays in the members for MakesANonManifoldPlace. */
   Evaluated
   Evaluate(const Vector3 & point, VertexKind kind, CellHandle sliver, const Ranked & best) const
   {
@@ -458,21 +471,28 @@ private:
   bool
   FindConflicts(const Vector3 & point, CellHandle hint) const
   {
-    const Triangulation &      triangulation = m_State.GetTriangulation();
-    const CgalPoint            cgalPoint = ToCgal(point);
-    Triangulation::Locate_type locateType;
-    int                        li = 0;
-    int                        lj = 0;
-    const CellHandle           start = triangulation.locate(cgalPoint, locateType, li, lj, hint);
-    if (locateType == Triangulation::VERTEX || triangulation.is_infinite(start))
-    {
-      return false;
-    }
-    m_BoundaryFacets.clear();
+    const Triangulation & triangulation = m_State.GetTriangulation();
     m_EdgesFound = false;
-    m_ConflictCells.clear();
-    triangulation.find_conflicts(
-      cgalPoint, start, std::back_inserter(m_BoundaryFacets), std::back_inserter(m_ConflictCells));
+    if (const std::optional<std::size_t> index = m_Regions.IndexOf(point))
+    {
+      m_Regions.RegionOf(*index, m_ConflictCells, m_BoundaryFacets);
+    }
+    else
+    {
+      const CgalPoint            cgalPoint = ToCgal(point);
+      Triangulation::Locate_type locateType;
+      int                        li = 0;
+      int                        lj = 0;
+      const CellHandle           start = triangulation.locate(cgalPoint, locateType, li, lj, hint);
+      if (locateType == Triangulation::VERTEX || triangulation.is_infinite(start))
+      {
+        return false;
+      }
+      m_BoundaryFacets.clear();
+      m_ConflictCells.clear();
+      triangulation.find_conflicts(
+        cgalPoint, start, std::back_inserter(m_BoundaryFacets), std::back_inserter(m_ConflictCells));
+    }
     m_NewTetrahedra.clear();
     for (const auto & [cell, opposite] : m_BoundaryFacets)
     {
@@ -897,12 +917,14 @@ private:
     std::size_t  facet;
   };
 
-  const LabelOracle &                         m_Oracle;
-  const MeshState &                           m_State;
-  const BoxProtection &                       m_Box;
-  const RefinementRules &                     m_Rules;
-  double                                      m_RadiusEdgeBound;
-  DihedralAngleBound                          m_DihedralBound;
+  const LabelOracle &     m_Oracle;
+  const MeshState &       m_State;
+  const BoxProtection &   m_Box;
+  const RefinementRules & m_Rules;
+  double                  m_RadiusEdgeBound;
+  DihedralAngleBound      m_DihedralBound;
+  /** The conflict regions of the free candidates around the circumcentre, during Choose (BestCandidate). */
+  mutable ConflictRegions                     m_Regions;
   mutable std::vector<Triangulation::Facet>   m_BoundaryFacets;
   mutable std::vector<CellHandle>             m_ConflictCells;
   mutable std::vector<std::array<Vector3, 4>> m_NewTetrahedra;
