@@ -417,7 +417,7 @@ private:
   /** The acceptance test and the score of inserting `point` as a vertex of `kind` to split `sliver`. Its new
    * tetrahedra are its conflict region's boundary facets joined to it; each carries the label at its circumcentre.
    * The labels are asked for only when the candidate's angles could beat `best`, since they cost an oracle query
-   * each.
+   * each, and only until one differs from the sliver's when changing the boundary alone keeps it from beating `best`.
    * The conflict region stays in the members for MakesANonManifoldPlace. */
   Evaluated
   Evaluate(const Vector3 & point, VertexKind kind, CellHandle sliver, const Ranked & best) const
@@ -455,10 +455,18 @@ private:
     evaluated.labelled = true;
     m_NewLabels.clear();
     m_NewCenters.clear();
+    // A candidate that cannot beat `best` once it changes the boundary stops at its first new tetrahedron of
+    // another label than the sliver's, left unlabelled as above.
+    const bool losesIfItChangesBoundary = CannotBeat(largestCosine, true, best);
     for (const std::array<Vector3, 4> & corners : m_NewTetrahedra)
     {
       m_NewCenters.push_back(TetrahedronCircumcenter(corners));
       m_NewLabels.push_back(m_Oracle.LabelAt(m_NewCenters.back()));
+      if (losesIfItChangesBoundary && m_NewLabels.back() != sliver->cache.label)
+      {
+        evaluated.labelled = false;
+        return evaluated;
+      }
     }
     result.split.changesBoundary = ChangesBoundary(sliver->cache.label);
     result.split.accepted = !result.split.changesBoundary || NewBoundaryTrianglesAreGood(point, kind);
