@@ -293,6 +293,14 @@ SliverRemovalMayNotEnd(const FilterSettings & settings)
   return settings.minimumDihedralAngle > 0.0 && settings.radiusEdgeBound < 2.0;
 }
 
+/** Whether a vertex-cap exception's `message` says that the sliver removal reached the cap: the refiner adds that
+ * when the cap stops a pass after its first sliver, every vertex since being the sliver removal's. */
+inline bool
+IsReachedBySliverRemoval(const std::string & message)
+{
+  return message.find("the limit was reached by the sliver removal") != std::string::npos;
+}
+
 /** Whether the case runs issue #14's topology defaults: the regularisation at its default scale, the relabelling,
  * the topology rounds, the joining of diagonal voxels, and no opt-in halving of δ, on a label image. */
 inline bool
