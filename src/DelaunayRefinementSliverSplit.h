@@ -722,7 +722,6 @@ private:
       }
       m_Star.clear();
       triangulation.incident_cells(vertex, std::back_inserter(m_Star));
-      const int before = m_Links.NonManifoldLabelsAt(triangulation, vertex, m_Star);
       m_FacetsAtVertex.clear();
       // Triangles between two tetrahedra that stay.
       for (const CellHandle cell : m_Star)
@@ -760,7 +759,10 @@ private:
       }
       // The new triangles at the vertex: the new point and the other end of a boundary edge at the vertex.
       AddNewTrianglesAt(vertex);
-      if (m_Links.NonManifoldLabelsAmongFacets(m_FacetsAtVertex) > before)
+      // The links as they are now are built only where the insertion leaves some label non-manifold at the vertex:
+      // elsewhere it cannot have made a place (most vertices).
+      const int after = m_Links.NonManifoldLabelsAmongFacets(m_FacetsAtVertex);
+      if (after > 0 && after > m_Links.NonManifoldLabelsAt(triangulation, vertex, m_Star))
       {
         return true;
       }
