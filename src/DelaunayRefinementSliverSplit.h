@@ -346,7 +346,8 @@ private:
       return best;
     }
     // The points around the circumcentre, whose conflict regions one search finds (ConflictRegions); the
-    // circumcentre alone is searched for on its own, since a third of the slivers end the search there.
+    // circumcentre is searched for on its own, since the search ends there for some slivers (one in seven on the
+    // atlas phantom at 2 mm with σ = 15°), which then need no other region.
     std::vector<Vector3> aroundCenter;
     for (const Vector3 & direction : Directions())
     {
