@@ -49,7 +49,8 @@ public:
   /** Finds the conflict region of each of `points` (at most MaximumPoints), all of which lie strictly inside the
    * circumball of `start`, a finite cell. A cell is in conflict with a point exactly when CGAL's insertion would
    * replace it (`side_of_sphere` with its symbolic perturbation): the cached circumsphere decides where the point
-   * is clearly inside or outside it, the exact predicate where it is within a relative margin of the sphere. */
+   * is clearly inside or outside it, the exact predicate where it is within a relative margin of the sphere
+   * (SphereMargin). */
   void
   Find(const Triangulation & triangulation, CellHandle start, const std::vector<Vector3> & points)
   {
@@ -176,10 +177,12 @@ private:
     return triangulation.side_of_sphere(cell, m_CgalPoints[index], true) == CGAL::ON_BOUNDED_SIDE;
   }
 
-  /** Within this fraction of the squared circumradius of the cached sphere, the exact predicate decides: far above
-   * the cached circumcentre's error (MeshState::CircumcenterOf holds it to a relative 1e-10), so the cache never
-   * decides a case the predicate would decide otherwise. */
-  static constexpr double SphereMargin = 1e-6;
+  /** Within this fraction of the squared circumradius of the cached sphere, the exact predicate decides. The cached
+   * circumcentre is within about 1e-7 of the longest edge, so 2e-7 of the radius, of the true one
+   * (MeshState::FlatnessTolerance), which moves a point's squared distance minus the squared radius by at most about
+   * 8e-7 of the squared radius near the sphere: the margin is over a hundred times that, so the cache never decides
+   * a case the predicate would decide otherwise. */
+  static constexpr double SphereMargin = 1e-4;
 
   std::vector<Vector3>                       m_Points;
   std::vector<CgalPoint>                     m_CgalPoints;
