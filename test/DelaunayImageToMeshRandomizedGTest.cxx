@@ -1394,6 +1394,29 @@ TEST(RandomizedKnownDefect, OptInManifoldRefinementJumpsWithTheLastBitsOfDelta)
     << "fixed? add the opt-in manifold refinement to RandomizedStability and remove this test";
 }
 
+/** A part that holds a ball of diameter δ can end without a tetrahedron. Found by a search of 12,800 more cases
+ * (seeds 56,600-58,199): Blobs 1056639 (ρ = 1, σ = 0, δ = 1.48 mm on voxels of 1.68 mm, diagonal voxels kept), whose
+ * one-voxel part holds a ball of radius 0.57 δ. The census samples it more finely in each of its four rounds and it
+ * still has no tetrahedron; the filter lists it (nothing is lost silently), but issue #14 asks for a tetrahedron. It
+ * is meshed with the relabelling at non-manifold places off, with the topology rounds off, with ρ = 2, and at
+ * δ (1 + 1e-9): not analysed further yet (the relabelling may take the part's tetrahedra each time). */
+TEST(RandomizedKnownDefect, ThickPartCanEndWithoutATetrahedron)
+{
+  RandomCase randomCase = MakeRecordedCase(Family::Blobs, 1056639);
+  ASSERT_EQ(randomCase.settings.radiusEdgeBound, 1.0) << "the case is no longer the one";
+  ASSERT_EQ(randomCase.settings.minimumDihedralAngle, 0.0) << "the case is no longer the one";
+  const CaseReport lost = RunCase(randomCase);
+  ASSERT_EQ(lost.result.outcome, Outcome::Mesh) << lost.result.message;
+  ASSERT_EQ(lost.problems.size(), 1u) << "fixed? then remove this test (the suite checks every mesh for it)";
+  EXPECT_NE(lost.problems.front().find("delta but no tetrahedron"), std::string::npos) << lost.problems.front();
+  EXPECT_EQ(lost.result.unmeshedComponents, 1u);
+
+  randomCase.settings.relabelNonManifoldPlaces = false;
+  const CaseReport withoutRelabelling = RunCase(randomCase);
+  ASSERT_EQ(withoutRelabelling.result.outcome, Outcome::Mesh) << withoutRelabelling.result.message;
+  EXPECT_TRUE(withoutRelabelling.problems.empty()) << withoutRelabelling.problems.front();
+}
+
 // ---- Stability under the last bits of δ ---------------------------------------------------------------------
 
 /** What a run made: its outcome and, for a mesh, its counts. */
