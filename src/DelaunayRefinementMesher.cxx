@@ -52,6 +52,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <optional>
 #include <set>
 #include <vector>
@@ -466,6 +467,7 @@ private:
       if (IsThick(part) && part.radius < WellSampledPartRadius * delta * (1.0 - PartTieMargin))
       {
         m_Sizing.AddZone(part.center, part.radius, 2.0 * part.radius);
+        ++m_ThickPartTries[{ part.label, part.center }];
         ++zones;
       }
     }
@@ -478,9 +480,9 @@ private:
 
   /** `mesh`, or, when a part of the labels that holds a ball of diameter δ has no tetrahedron in it all the same
    * (LabelPartCensus; SampleThinPartsFinely), the mesh made again with that part sampled around its largest ball at
-   * the ball's radius, halved in each round after the first (SampleThinPartsFinely's included), at most
-   * ThickPartRounds rounds in all. The parts still without a tetrahedron, thick or not, go to the statistics:
-   * nothing is lost silently. */
+   * the ball's radius, halved in each round after the first (SampleThinPartsFinely's included) up to the
+   * ThickPartRounds-th; each part at most ThickPartRounds times, at most LargestThickPartRounds rounds in all. The
+   * parts still without a tetrahedron, thick or not, go to the statistics: nothing is lost silently. */
   TetrahedralMesh
   WithEveryThickPart(TetrahedralMesh mesh)
   {
@@ -496,12 +498,15 @@ private:
       std::vector<Ball>         zones;
       for (const UnmeshedPart & part : parts)
       {
-        if (m_Parameters.refineThickParts && round < ThickPartRounds && IsThick(part))
+        unsigned int & tries = m_ThickPartTries[{ part.label, part.center }];
+        if (m_Parameters.refineThickParts && tries < ThickPartRounds && round < LargestThickPartRounds && IsThick(part))
         {
           // The part's surface near the ball is within its radius of the centre, and the facets there have
           // circumradii below the local δ: a zone of the radius plus twice that holds them.
-          const double localDelta = std::ldexp(std::min(delta, part.radius), -static_cast<int>(round));
+          const int    halvings = static_cast<int>(std::min(round, ThickPartRounds - 1));
+          const double localDelta = std::ldexp(std::min(delta, part.radius), -halvings);
           zones.push_back({ part.center, m_Sizing.AddZone(part.center, localDelta, part.radius + 2.0 * localDelta) });
+          ++tries;
         }
       }
       if (zones.empty())
@@ -829,6 +834,11 @@ private:
    * (issue #14's "at least δ thick"); the sampling around such a part is made finer at most ThickPartRounds times. */
   static constexpr double       ThickPartRadius = 0.5;
   static constexpr unsigned int ThickPartRounds = 4;
+  /** Each part is sampled more finely at most ThickPartRounds times, but the rounds go on while some part found
+   * without a tetrahedron has rounds left: the refinement after a round can leave another part without one (the
+   * randomized Blobs 1056639 found a new one-voxel part in each of four rounds, seven in all). At most this many
+   * rounds in all, and from the ThickPartRounds-th on δ is no longer halved. */
+  static constexpr unsigned int LargestThickPartRounds = 4 * ThickPartRounds;
   /** A part of the labels holding a ball of this radius, in units of δ, is sampled at δ (SampleThinPartsFinely). */
   static constexpr double WellSampledPartRadius = 0.75;
   /** The radii of the parts' balls are distances on the voxel lattice, and users choose round δ: a single voxel at
@@ -843,13 +853,16 @@ private:
   const ProgressObserver &     m_Observer;
   TopologyRegularizer *        m_Regularizer;
   const LabelPartCensus *      m_Census;
-  RefinementStatistics         m_Statistics;
-  MeshState                    m_State;
-  LocalSampling                m_Sizing;
-  BoxProtection                m_BoxProtection;
-  RefinementRules              m_Rules;
-  SliverSplit                  m_SliverSplit;
-  DihedralAngleBound           m_DihedralBound{ m_Parameters.minimumDihedralAngle };
+  /** How many times each part of the labels (by label and the centre of its largest ball) was sampled more finely
+   * (SampleThinPartsFinely, WithEveryThickPart). */
+  std::map<std::pair<Label, Vector3>, unsigned int> m_ThickPartTries;
+  RefinementStatistics                              m_Statistics;
+  MeshState                                         m_State;
+  LocalSampling                                     m_Sizing;
+  BoxProtection                                     m_BoxProtection;
+  RefinementRules                                   m_Rules;
+  SliverSplit                                       m_SliverSplit;
+  DihedralAngleBound                                m_DihedralBound{ m_Parameters.minimumDihedralAngle };
   SliverPerturbation m_SliverPerturbation{ m_Oracle, m_Parameters, m_State, m_Rules, m_Sizing, m_BoxProtection };
   MeshExtraction     m_Extraction;
   ManifoldRepair     m_Repair;
