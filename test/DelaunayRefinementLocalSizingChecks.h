@@ -42,15 +42,16 @@ struct LocalSizingReport
   bool refinedLocally{ false };
 };
 
-/** The exported sizing must have one value per point, each δ halved at most `levels` times (never coarser than δ:
- * a refinement that silently used a larger δ fails here); every edge with a feature end is at least the smaller
- * sampling distance at its two ends (the finest of the mesh where the sizing is not uniform, see below), every edge
- * with a free end min(ρ, 2) times that, every edge with a box end 2δ; when the mesh lists points moved below the
- * spacing (TetrahedralMesh::pointsMovedBelowSpacing), every edge LastResortSpacingFraction of that. The R4' variant
+/** The exported sizing must have one value per point, each δ halved at most `levels` times, or up to `tieMargin` of
+ * that below it (never coarser than δ: a refinement that silently used a larger δ fails here); every edge with a
+ * feature end is at least the smaller sampling distance at its two ends (the finest of the mesh where the sizing is not
+ * uniform, see below), every edge with a free end min(ρ, 2) times that, every edge with a box end 2δ; when the mesh
+ * lists points moved below the spacing (TetrahedralMesh::pointsMovedBelowSpacing), every edge LastResortSpacingFraction
+ * of that. The R4' variant
  * (`checkFeatureAndFree` false) has no bound on its feature and free edges. */
 inline LocalSizingReport
 CheckEdgesAgainstLocalSizing(const TetrahedralMesh & mesh, double delta, double rho, unsigned int levels,
-                             bool checkFeatureAndFree, double roundingSlack = 1e-9)
+                             bool checkFeatureAndFree, double roundingSlack = 1e-9, double tieMargin = 0.0)
 {
   LocalSizingReport  report;
   std::ostringstream text;
@@ -71,7 +72,7 @@ CheckEdgesAgainstLocalSizing(const TetrahedralMesh & mesh, double delta, double 
   {
     const double local = mesh.pointSamplingDistances[i];
     report.refinedLocally = report.refinedLocally || local < delta;
-    if (!(local <= delta && local >= finest * (1.0 - roundingSlack)))
+    if (!(local <= delta && local >= finest * (1.0 - tieMargin) * (1.0 - roundingSlack)))
     {
       text << "point " << i << " has sampling distance " << local << " outside [" << finest << ", " << delta << "]";
       report.problems.push_back(text.str());
