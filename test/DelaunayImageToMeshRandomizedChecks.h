@@ -51,6 +51,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace itk
@@ -302,6 +303,24 @@ inline bool
 IsReachedBySliverRemoval(const std::string & message)
 {
   return message.find("the limit was reached by the sliver removal") != std::string::npos;
+}
+
+/** The vertex counts in an exception that stops the sliver removal ("it took the mesh from N0 vertices, where every
+ * other rule was met, to N", as both the budget's and the vertex cap's messages say it): N0 and N, or nothing when
+ * the message does not say it. */
+inline std::optional<std::pair<unsigned long, unsigned long>>
+SliverRemovalGrowthIn(const std::string & message)
+{
+  const std::string fromText = "it took the mesh from ";
+  const std::string toText = " vertices, where every other rule was met, to ";
+  const std::size_t from = message.find(fromText);
+  const std::size_t to = message.find(toText, from);
+  if (from == std::string::npos || to == std::string::npos)
+  {
+    return std::nullopt;
+  }
+  return std::make_pair(std::stoul(message.substr(from + fromText.size())),
+                        std::stoul(message.substr(to + toText.size())));
 }
 
 /** Whether the case runs issue #14's topology defaults: the regularisation at its default scale, the relabelling,

@@ -1304,11 +1304,9 @@ TEST(RandomizedRegression, SliverRemovalThatDoesNotEndStopsAtItsBudget)
     EXPECT_NE(message.find("rho = 1,"), std::string::npos) << message;
     // "... from N0 vertices, where every other rule was met, to N, more than 10 times as many plus 1000": the check
     // follows every insertion, so it stops within a few vertices of the budget, and far below the cap it ran to.
-    const std::size_t from = message.find(" from ");
-    const std::size_t to = message.find(" to ", message.find("vertices, where"));
-    ASSERT_TRUE(from != std::string::npos && to != std::string::npos) << message;
-    const unsigned long startedAt = std::stoul(message.substr(from + 6));
-    const unsigned long stoppedAt = std::stoul(message.substr(to + 4));
+    const auto growth = SliverRemovalGrowthIn(message);
+    ASSERT_TRUE(growth.has_value()) << message;
+    const auto [startedAt, stoppedAt] = *growth;
     EXPECT_GT(stoppedAt, 10 * startedAt + 1000) << message;
     EXPECT_LE(stoppedAt, 10 * startedAt + 1000 + 8) << message;
     EXPECT_LT(stoppedAt, FilterSettings{}.maximumNumberOfVertices / 4) << message;
@@ -1333,9 +1331,9 @@ TEST(RandomizedRegression, VertexCapReachedBySliverRemovalSaysSo)
   const std::string & message = report.result.message;
   ASSERT_EQ(report.result.outcome, Outcome::VertexLimit) << OutcomeName(report.result.outcome) << ": " << message;
   EXPECT_TRUE(IsReachedBySliverRemoval(message)) << message;
-  const std::size_t from = message.find("it took the mesh from ");
-  ASSERT_NE(from, std::string::npos) << message;
-  const unsigned long startedAt = std::stoul(message.substr(from + 22));
+  const auto growth = SliverRemovalGrowthIn(message);
+  ASSERT_TRUE(growth.has_value()) << message;
+  const unsigned long startedAt = growth->first;
   EXPECT_GT(startedAt, 10000u) << message;
   EXPECT_LT(startedAt, cap) << message;
 
