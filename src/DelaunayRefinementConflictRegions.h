@@ -60,7 +60,6 @@ public:
     }
     Clear();
     m_Points = points;
-    m_CgalPoints.clear();
     for (const Vector3 & point : points)
     {
       m_CgalPoints.push_back(ToCgal(point));
@@ -83,6 +82,7 @@ public:
   Clear()
   {
     m_Points.clear();
+    m_CgalPoints.clear();
     m_Members.clear();
     m_Masks.clear();
   }

@@ -47,8 +47,7 @@ struct LocalSizingReport
  * feature end is at least the smaller sampling distance at its two ends (the finest of the mesh where the sizing is not
  * uniform, see below), every edge with a free end min(ρ, 2) times that, every edge with a box end 2δ; when the mesh
  * lists points moved below the spacing (TetrahedralMesh::pointsMovedBelowSpacing), every edge LastResortSpacingFraction
- * of that. The R4' variant
- * (`checkFeatureAndFree` false) has no bound on its feature and free edges. */
+ * of that. The R4' variant (`checkFeatureAndFree` false) has no bound on its feature and free edges. */
 inline LocalSizingReport
 CheckEdgesAgainstLocalSizing(const TetrahedralMesh & mesh, double delta, double rho, unsigned int levels,
                              bool checkFeatureAndFree, double roundingSlack = 1e-9, double tieMargin = 0.0)
