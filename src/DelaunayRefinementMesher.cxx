@@ -505,7 +505,9 @@ private:
           // circumradii below the local δ: a zone of the radius plus twice that holds them.
           const int    halvings = static_cast<int>(std::min(round, ThickPartRounds - 1));
           const double localDelta = std::ldexp(std::min(delta, part.radius), -halvings);
-          zones.push_back({ part.center, m_Sizing.AddZone(part.center, localDelta, part.radius + 2.0 * localDelta) });
+          zones.push_back(
+            { part.center,
+              m_Sizing.AddZone(part.center, localDelta, part.radius + 2.0 * localDelta, ZoneReach::Circumballs) });
           ++tries;
         }
       }

@@ -107,7 +107,7 @@ public:
       {
         return Action{ Rule::R1, closest.point, deltaAtClosest };
       }
-      const double deltaAtCenter = m_Sizing.LocalDelta(cache.circumcenter);
+      const double deltaAtCenter = m_Sizing.DeltaForCircumball(cache.circumcenter, std::sqrt(cache.squaredRadius));
       if (cache.squaredRadius >= 4.0 * deltaAtCenter * deltaAtCenter)
       {
         return Action{ Rule::R2, cache.circumcenter, deltaAtCenter };

@@ -19,8 +19,8 @@
 #define DelaunayRefinementSizing_h
 
 // The sizing field (docs/algorithm.md, "Local sampling distance"): the δ each rule uses at a point. It is δ
-// everywhere unless the manifold repair refined around a place, as CGAL Mesh_3's sizing fields are queried by
-// its criteria.
+// everywhere except in zones of finer sampling (around small parts of the labels, and where the opt-in manifold
+// refinement refined), as CGAL Mesh_3's sizing fields are queried by its criteria.
 
 #include "DelaunayRefinementGeometry.h"
 #include "DelaunayRefinementSpatialGrid.h"
@@ -35,8 +35,17 @@ namespace delaunay_refinement
 namespace detail
 {
 
-/** The local surface sampling distance: δ everywhere, except in balls around places where the restricted
- * surface was not a 2-manifold, where it is halved once per refinement level. */
+/** Which rules a zone of finer sampling reaches: those whose own point (a circumcentre, a surface point, a surface
+ * ball's centre) lies in it, or R2 also for every circumball that meets it (LocalSampling::DeltaForCircumball). */
+enum class ZoneReach
+{
+  Points,
+  Circumballs
+};
+
+/** The local surface sampling distance: δ everywhere, except in balls (zones) around the small parts of the labels
+ * that must get a tetrahedron (Refiner::SampleThinPartsFinely, Refiner::WithEveryThickPart) and, with the opt-in
+ * manifold refinement, around places where the restricted surface was not a 2-manifold (halved once per level). */
 class LocalSampling
 {
 public:
@@ -62,6 +71,30 @@ public:
     return delta;
   }
 
+  /** The δ R2 uses for a tetrahedron whose circumball has `radius` around `center`: the δ at the circumcentre, or the
+   * δ of a finer zone of reach ZoneReach::Circumballs that the circumball meets. Such a zone is made for a part of a
+   * label that the refinement left without a tetrahedron (Refiner::WithEveryThickPart): the part can sit inside
+   * tetrahedra of another label whose circumcentres lie outside its zone, where no rule reading the δ at its own
+   * point would see the zone (docs/algorithm.md, "Local sampling distance"). */
+  double
+  DeltaForCircumball(const Vector3 & center, double radius) const
+  {
+    double delta = m_Delta;
+    if (m_Zones.empty())
+    {
+      return delta;
+    }
+    m_ZoneCenters.ForEachWithin(center, radius + ZoneRadiusFactor * m_Delta, [&](std::size_t zone) {
+      const Zone & candidate = m_Zones[zone];
+      const double reach = candidate.reach == ZoneReach::Circumballs ? radius + candidate.radius : candidate.radius;
+      if (SquaredNorm(center - candidate.center) < reach * reach)
+      {
+        delta = std::min(delta, candidate.delta);
+      }
+    });
+    return delta;
+  }
+
   /** Whether a triangle with these corners keeps R1's bound as a boundary facet: its circumradius below the local δ
    * at each corner. A step that puts a facet on a boundary without a rule's insertion (a relabelling, a cap peeled
    * off) must keep it, as R1 and R3 keep it for the facets they make. */
@@ -82,11 +115,11 @@ public:
 
   /** Samples at `delta` within `radius` of `point`; `radius` at most ZoneRadiusFactor times the δ everywhere else. */
   double
-  AddZone(const Vector3 & point, double delta, double radius)
+  AddZone(const Vector3 & point, double delta, double radius, ZoneReach reach = ZoneReach::Points)
   {
     radius = std::min(radius, ZoneRadiusFactor * m_Delta);
     m_ZoneCenters.Insert(point, m_Zones.size());
-    m_Zones.push_back({ point, radius * radius, delta });
+    m_Zones.push_back({ point, radius, radius * radius, delta, reach });
     return radius;
   }
 
@@ -114,9 +147,11 @@ private:
 
   struct Zone
   {
-    Vector3 center;
-    double  squaredRadius;
-    double  delta;
+    Vector3   center;
+    double    radius;
+    double    squaredRadius;
+    double    delta;
+    ZoneReach reach;
   };
 
   double                   m_Delta;
