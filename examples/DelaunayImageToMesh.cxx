@@ -513,7 +513,15 @@ MeshImage(const Options & options)
     std::cout << "relabelled at non-manifold places: " << filter->GetNumberOfTopologyRelabelledTetrahedra()
               << " tetrahedra took a neighbour's label (--no-topology-relabelling keeps them)\n";
   }
-  const std::size_t forcedSliverSplits = filter->GetRefinementStatistics().sliverSplitsFailingAcceptance;
+  const delaunay_refinement::RefinementStatistics & statistics = filter->GetRefinementStatistics();
+  if (!options.quiet && statistics.topologyRegularizationBudgetReached)
+  {
+    std::cout << "topology regularisation: stopped after " << statistics.topologyRegularizationRounds
+              << " rounds, at its budget of inserted vertices (docs/algorithm.md, \"Topology\"); "
+              << statistics.remainingNonManifoldVertices
+              << " non-manifold vertices left (a larger delta or radius-edge bound gives fewer)\n";
+  }
+  const std::size_t forcedSliverSplits = statistics.sliverSplitsFailingAcceptance;
   if (!options.quiet && forcedSliverSplits > 0)
   {
     std::cout << "sliver removal: " << forcedSliverSplits

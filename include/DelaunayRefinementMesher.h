@@ -68,6 +68,9 @@ struct RefinementStatistics
   /** Rounds of the topology regularisation, and the balls in which it changed the oracle's labels (the places'
    * balls and those of the voxel pinches mended after them). */
   std::size_t topologyRegularizationRounds{ 0 };
+  /** Whether the rounds stopped because they had inserted more vertices than their budget allows (the places left
+   * are in remainingNonManifoldVertices; docs/algorithm.md, "Topology", step 2). */
+  bool        topologyRegularizationBudgetReached{ false };
   std::size_t regularizedPlaces{ 0 };
   std::size_t manifoldRefinementZones{ 0 };
   std::size_t remainingNonManifoldVertices{ 0 };

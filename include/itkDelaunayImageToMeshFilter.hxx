@@ -401,7 +401,9 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf(std::ostream & os
   os << indent << "RefinementStatistics: " << m_RefinementStatistics.triangulationVertices
      << " triangulation vertices, " << m_RefinementStatistics.refinementSeconds << " s, "
      << m_RefinementStatistics.manifoldRefinementZones << " manifold refinement zones, "
-     << m_RefinementStatistics.remainingNonManifoldVertices << " non-manifold vertices left" << std::endl;
+     << m_RefinementStatistics.remainingNonManifoldVertices << " non-manifold vertices left"
+     << (m_RefinementStatistics.topologyRegularizationBudgetReached ? " (the regularisation reached its budget)" : "")
+     << std::endl;
   os << indent << "ObjectLabelImage: " << m_ObjectLabelImage.GetPointer() << std::endl;
 }
 

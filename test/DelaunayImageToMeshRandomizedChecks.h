@@ -441,6 +441,9 @@ struct RunResult
   std::size_t admittedNonManifoldVertices{ 0 };
   /** Whether every boundary had to be a closed manifold (IsPromisedManifold). */
   bool promisedManifold{ false };
+  /** The topology regularisation's rounds, and whether they stopped at their budget of insertions. */
+  std::size_t regularizationRounds{ 0 };
+  bool        regularizationBudgetReached{ false };
 };
 
 inline std::string
@@ -1252,6 +1255,8 @@ CheckManifoldBoundaries(const dr::TetrahedralMesh & mesh, const dr::RefinementSt
   }
   result.admittedNonManifoldVertices = statistics.remainingNonManifoldVertices;
   result.promisedManifold = promised;
+  result.regularizationRounds = statistics.topologyRegularizationRounds;
+  result.regularizationBudgetReached = statistics.topologyRegularizationBudgetReached;
   if (result.nonManifoldBoundaries > 0 && promised)
   {
     violations.Add("boundaries not a closed manifold with the topology defaults and delta >= the largest spacing:",
