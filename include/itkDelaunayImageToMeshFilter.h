@@ -156,7 +156,9 @@ public:
   /** Where a boundary still comes out non-manifold after the refinement and the relabelling
    * (RelabelNonManifoldPlaces), the labels are regularised in a ball of radius δ around each such place (the place's
    * label fills the ball or leaves it, whichever changes fewer voxels) and the refinement resumes there, at most
-   * this many rounds. Only with nearest-neighbour labels.
+   * this many rounds. Only with nearest-neighbour labels. The rounds also stop once they have inserted more than a
+   * few times the vertices the mesh had when they began (GetTopologyRegularizationBudgetReached(); docs/algorithm.md,
+   * "Topology", step 2); the places left are counted in GetNumberOfRemainingNonManifoldVertices().
    * Default delaunay_refinement::RefinementParameters{}.topologyRegularizationRounds; 0 = never; valid: [0, 20]. */
   itkSetMacro(TopologyRegularizationRounds, unsigned int);
   itkGetConstMacro(TopologyRegularizationRounds, unsigned int);
@@ -186,6 +188,21 @@ public:
   GetNumberOfTopologyRelabelledTetrahedra() const
   {
     return static_cast<SizeValueType>(m_RefinementStatistics.topologyRelabelledTetrahedra);
+  }
+
+  /** Whether the last update's regularisation rounds stopped at their budget of inserted vertices
+   * (TopologyRegularizationRounds). Reads the member, as GetNumberOfTopologyRelabelledTetrahedra() does. */
+  bool
+  GetTopologyRegularizationBudgetReached() const
+  {
+    return m_RefinementStatistics.topologyRegularizationBudgetReached;
+  }
+  /** How many (vertex, boundary) places the last update left non-manifold: 0 when every tissue's boundary and the
+   * union's are closed manifolds at every vertex the repair looked at (the report counts them from the mesh). */
+  SizeValueType
+  GetNumberOfRemainingNonManifoldVertices() const
+  {
+    return static_cast<SizeValueType>(m_RefinementStatistics.remainingNonManifoldVertices);
   }
 
   /** A cap on the vertices of the triangulation; reaching it raises an exception. Default 10,000,000. */

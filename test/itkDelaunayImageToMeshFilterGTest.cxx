@@ -1355,6 +1355,29 @@ TEST(DiagonalVoxels, BoxesTouchingAlongAnEdgeAreJoinedIntoOneManifold)
   EXPECT_EQ(CountObjectVoxels(*apart->GetObjectLabelImage()), 2u * 216u);
 }
 
+/** Kept apart and with every repair off, the contact along the edge stays a non-manifold place, and the filter says
+ * so (GetNumberOfRemainingNonManifoldVertices, which Python reads too); with the defaults it leaves none. Neither run
+ * comes near the regularisation's budget. */
+TEST(DiagonalVoxels, ContactLeftNonManifoldIsCountedByTheFilter)
+{
+  const auto image = BoxesTouchingAlongAnEdge();
+  auto       apart = FilterFor(image.GetPointer(), 1.5);
+  apart->SetRegularizationScale(0.0);
+  apart->SetTopologyRegularizationRounds(0);
+  apart->RelabelNonManifoldPlacesOff();
+  apart->JoinDiagonalVoxelsOff();
+  const auto left = RunFilter<FilterType>(apart);
+  EXPECT_GT(left->boundary.nonManifoldEdges + left->boundary.nonManifoldVertices, 0u);
+  EXPECT_GT(apart->GetNumberOfRemainingNonManifoldVertices(), 0u);
+  EXPECT_FALSE(apart->GetTopologyRegularizationBudgetReached());
+
+  auto       defaults = FilterFor(image.GetPointer(), 1.5);
+  const auto mended = RunFilter<FilterType>(defaults);
+  ExpectClosedManifoldBoundary(*mended);
+  EXPECT_EQ(defaults->GetNumberOfRemainingNonManifoldVertices(), 0u);
+  EXPECT_FALSE(defaults->GetTopologyRegularizationBudgetReached());
+}
+
 // ---- Bad input: a valid mesh or an itk::ExceptionObject naming the problem, never a crash or an empty mesh ----
 
 LabelImageType::Pointer
