@@ -79,11 +79,11 @@ public:
   double
   DeltaForCircumball(const Vector3 & center, double radius) const
   {
-    double delta = m_Delta;
-    if (m_Zones.empty())
+    if (!m_AnyZoneReachesCircumballs)
     {
-      return delta;
+      return LocalDelta(center);
     }
+    double delta = m_Delta;
     m_ZoneCenters.ForEachWithin(center, radius + ZoneRadiusFactor * m_Delta, [&](std::size_t zone) {
       const Zone & candidate = m_Zones[zone];
       const double reach = candidate.reach == ZoneReach::Circumballs ? radius + candidate.radius : candidate.radius;
@@ -120,6 +120,7 @@ public:
     radius = std::min(radius, ZoneRadiusFactor * m_Delta);
     m_ZoneCenters.Insert(point, m_Zones.size());
     m_Zones.push_back({ point, radius, radius * radius, delta, reach });
+    m_AnyZoneReachesCircumballs = m_AnyZoneReachesCircumballs || reach == ZoneReach::Circumballs;
     return radius;
   }
 
@@ -157,6 +158,7 @@ private:
   double                   m_Delta;
   std::vector<Zone>        m_Zones;
   SpatialGrid<std::size_t> m_ZoneCenters;
+  bool                     m_AnyZoneReachesCircumballs{ false };
 };
 
 } // namespace detail
