@@ -1436,8 +1436,8 @@ TEST(RandomizedKnownDefect, OptInManifoldRefinementJumpsWithTheLastBitsOfDelta)
  * background tetrahedron of circumradius 1.18 δ whose circumcentre was 1.06 δ from the part's ball, outside the zone
  * of finer sampling, and no rule looked at the zone: R2 read the local δ at the circumcentre, R1 at the surface point
  * closest to it (on another part). Four rounds, down to δ' = 0.064 δ, inserted nothing. Now R2 reads the finest δ its
- * circumball meets (LocalSampling::SmallestDeltaMeeting); the part gets its tetrahedra in the next round and the case
- * must mesh and pass every check. */
+ * circumball meets in a zone made for such a part (LocalSampling::DeltaForCircumball); the part gets its tetrahedra in
+ * the next round and the case must mesh and pass every check. */
 TEST(RandomizedRegression, PartInsideAnotherLabelsTetrahedronIsRefined)
 {
   const RandomCase randomCase = MakeCase(Family::SaltAndPepper, 2060717);

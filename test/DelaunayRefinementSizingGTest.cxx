@@ -1,0 +1,85 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+
+// The sizing field (src/DelaunayRefinementSizing.h): which δ each reading of a zone gives. It has no CGAL type, so
+// it is tested on points and balls made by hand.
+
+#include "DelaunayRefinementSizing.h"
+
+#include <gtest/gtest.h>
+
+namespace dr = delaunay_refinement;
+
+namespace
+{
+
+constexpr double Delta = 1.0;
+
+const dr::Vector3 ZoneCenter{ { 0.0, 0.0, 0.0 } };
+
+/** A point `distance` from the zone's centre along x. */
+dr::Vector3
+AlongX(double distance)
+{
+  return dr::Vector3{ { distance, 0.0, 0.0 } };
+}
+
+} // namespace
+
+/** A zone gives its δ to the points it holds, strictly inside, and R2's circumball reading is the same for a zone of
+ * the default reach: a circumball that meets such a zone without its centre inside keeps δ. */
+TEST(LocalSampling, APointZoneHoldsOnlyItsInterior)
+{
+  dr::detail::LocalSampling sizing(Delta);
+  EXPECT_EQ(sizing.AddZone(ZoneCenter, 0.25, 0.75), 0.75);
+  EXPECT_EQ(sizing.LocalDelta(AlongX(0.5)), 0.25);
+  EXPECT_EQ(sizing.LocalDelta(AlongX(0.75)), Delta) << "the zone's sphere is outside it";
+  EXPECT_EQ(sizing.LocalDelta(AlongX(0.8)), Delta);
+  EXPECT_EQ(sizing.DeltaForCircumball(AlongX(0.5), 0.1), 0.25);
+  EXPECT_EQ(sizing.DeltaForCircumball(AlongX(1.0), 0.9), Delta) << "a zone of the default reach reaches points only";
+  EXPECT_EQ(sizing.FinestDelta(), 0.25);
+}
+
+/** A zone made for a part the refinement left without a tetrahedron gives its δ to every circumball that meets it
+ * (the randomized SaltAndPepper 2060717's part sat in a tetrahedron whose circumcentre was outside its zone), to
+ * balls that only touch it not, and to the points outside it not: R1 and R3 read it at their points as before. */
+TEST(LocalSampling, ARescueZoneReachesEveryCircumballThatMeetsIt)
+{
+  dr::detail::LocalSampling sizing(Delta);
+  sizing.AddZone(ZoneCenter, 0.125, 0.75, dr::detail::ZoneReach::Circumballs);
+  EXPECT_EQ(sizing.DeltaForCircumball(AlongX(1.0), 0.9), 0.125) << "the ball reaches 0.1 into the zone";
+  EXPECT_EQ(sizing.DeltaForCircumball(AlongX(1.06), 1.18), 0.125) << "the case's tetrahedron";
+  EXPECT_EQ(sizing.DeltaForCircumball(AlongX(2.0), 1.25), Delta) << "a ball that touches the zone does not meet it";
+  EXPECT_EQ(sizing.DeltaForCircumball(AlongX(2.0), 1.0), Delta);
+  EXPECT_EQ(sizing.LocalDelta(AlongX(1.0)), Delta) << "points outside the zone keep δ";
+  EXPECT_EQ(sizing.LocalDelta(AlongX(0.5)), 0.125);
+}
+
+/** The finest zone a circumball meets wins, whatever the order the zones were made in; a point zone that holds the
+ * circumcentre still counts beside a rescue zone. */
+TEST(LocalSampling, TheFinestZoneMetWins)
+{
+  dr::detail::LocalSampling sizing(Delta);
+  sizing.AddZone(AlongX(3.0), 0.5, 1.0);
+  sizing.AddZone(ZoneCenter, 0.25, 0.75, dr::detail::ZoneReach::Circumballs);
+  sizing.AddZone(AlongX(-3.0), 0.0625, 0.5, dr::detail::ZoneReach::Circumballs);
+  EXPECT_EQ(sizing.DeltaForCircumball(AlongX(3.0), 0.1), 0.5) << "the point zone holds the centre";
+  EXPECT_EQ(sizing.DeltaForCircumball(AlongX(3.0), 2.5), 0.25) << "the ball also meets the rescue zone at 0";
+  EXPECT_EQ(sizing.DeltaForCircumball(ZoneCenter, 2.9), 0.0625)
+    << "the finer of the two rescue zones it meets; the point zone does not hold its centre";
+}
