@@ -79,6 +79,7 @@ TEST(LocalSampling, TheFinestZoneMetWins)
   sizing.AddZone(ZoneCenter, 0.25, 0.75, dr::detail::ZoneReach::Circumballs);
   sizing.AddZone(AlongX(-3.0), 0.0625, 0.5, dr::detail::ZoneReach::Circumballs);
   EXPECT_EQ(sizing.DeltaForCircumball(AlongX(3.0), 0.1), 0.5) << "the point zone holds the centre";
+  EXPECT_EQ(sizing.DeltaForCircumball(AlongX(4.5), 0.6), Delta) << "it meets the point zone without its centre in it";
   EXPECT_EQ(sizing.DeltaForCircumball(AlongX(3.0), 2.5), 0.25) << "the ball also meets the rescue zone at 0";
   EXPECT_EQ(sizing.DeltaForCircumball(ZoneCenter, 2.9), 0.0625)
     << "the finer of the two rescue zones it meets; the point zone does not hold its centre";
