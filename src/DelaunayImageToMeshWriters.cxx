@@ -315,6 +315,9 @@ WriteVtkXmlFile(const TetrahedralMesh & mesh, const std::string & fileName)
   writer->SetDataModeToBinary();
   // 32-bit block headers cap each array at 4 GiB, which a large brain mesh can exceed.
   writer->SetHeaderTypeToUInt64();
+  // zlib's fastest level: a quarter of the default level's time (0.07 against 0.25 s for the k-means tissues' 159 k
+  // tetrahedra) for a file 8 % larger. Still zlib, which every VTU reader (VTK, ParaView, meshio) decompresses.
+  writer->SetCompressionLevel(1);
   RunVtkWriter(*writer, fileName);
 }
 
