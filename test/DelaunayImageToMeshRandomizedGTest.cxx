@@ -1467,6 +1467,20 @@ TEST(RandomizedRegression, RegularizationRoundsStopAtTheirBudgetAndSaySo)
   EXPECT_LT(report.result.regularizationRounds, 13u);
 }
 
+/** R3 measured a surface ball's radius from one corner of its facet, and the ball's centre, on a Voronoi edge whose
+ * ends are floating-point constructions, was nearer to another corner. Found by a search of 12,800 more cases (seeds
+ * 72,600-74,199): SaltAndPepper 2073625 (ρ = 2, σ = 0, diagonal voxels kept) inserted a feature vertex 1.3e-8 of the
+ * local δ (0.57 δ, a thin part's zone) closer than that to another, and the suite's sizing check failed. The radius is
+ * now the distance to the nearest corner (RefinementRules::SurfaceBallOf); the case must mesh and pass every check. */
+TEST(RandomizedRegression, SurfaceBallIsMeasuredToItsNearestCorner)
+{
+  const RandomCase randomCase = MakeCase(Family::SaltAndPepper, 2073625);
+  ASSERT_EQ(randomCase.settings.radiusEdgeBound, 2.0) << "the case is no longer the one";
+  const CaseReport report = RunCase(randomCase);
+  ASSERT_EQ(report.result.outcome, Outcome::Mesh) << report.result.message;
+  EXPECT_TRUE(report.problems.empty()) << report.problems.front();
+}
+
 // ---- Stability under the last bits of δ ---------------------------------------------------------------------
 
 /** What a run made: its outcome and, for a mesh, its counts. */
