@@ -780,6 +780,16 @@ RunCase(const RandomCase & randomCase)
     randomCase, MakeImage<FloatImageType>(randomCase, [](int label) { return label != 0 ? 1.0f : 0.0f; }));
 }
 
+/** Runs a case that must mesh and pass every check of the suite (a regression case); its report, for more checks. */
+CaseReport
+ExpectMeshPassingEveryCheck(const RandomCase & randomCase)
+{
+  CaseReport report = RunCase(randomCase);
+  EXPECT_EQ(report.result.outcome, Outcome::Mesh) << report.result.message;
+  EXPECT_TRUE(report.problems.empty()) << report.problems.front();
+  return report;
+}
+
 // ---- The suite ------------------------------------------------------------------------------------------
 
 struct FamilySummary
@@ -1376,9 +1386,7 @@ TEST(RandomizedRegression, ThickPartZoneAtTheTieMarginPassesTheSizingCheck)
 {
   const RandomCase randomCase = MakeCase(Family::ManyLabels, 5062585);
   ASSERT_EQ(randomCase.settings.radiusEdgeBound, 2.0) << "the case is no longer the one";
-  const CaseReport report = RunCase(randomCase);
-  ASSERT_EQ(report.result.outcome, Outcome::Mesh) << report.result.message;
-  EXPECT_TRUE(report.problems.empty()) << report.problems.front();
+  ExpectMeshPassingEveryCheck(randomCase);
 }
 
 /** A sliver that R4′ leaves to the flat-cap step as a cap on the background, where peeling it off would make a
@@ -1442,9 +1450,7 @@ TEST(RandomizedRegression, PartInsideAnotherLabelsTetrahedronIsRefined)
 {
   const RandomCase randomCase = MakeCase(Family::SaltAndPepper, 2060717);
   ASSERT_EQ(randomCase.settings.radiusEdgeBound, 1.0) << "the case is no longer the one";
-  const CaseReport report = RunCase(randomCase);
-  ASSERT_EQ(report.result.outcome, Outcome::Mesh) << report.result.message;
-  EXPECT_TRUE(report.problems.empty()) << report.problems.front();
+  const CaseReport report = ExpectMeshPassingEveryCheck(randomCase);
   EXPECT_EQ(report.result.unmeshedComponents, 0u);
 }
 
@@ -1459,9 +1465,7 @@ TEST(RandomizedRegression, PartInsideAnotherLabelsTetrahedronIsRefined)
 TEST(RandomizedRegression, RegularizationRoundsStopAtTheirBudgetAndSaySo)
 {
   const RandomCase randomCase = MakeCase(Family::SaltAndPepper, 2000322);
-  const CaseReport report = RunCase(randomCase);
-  ASSERT_EQ(report.result.outcome, Outcome::Mesh) << report.result.message;
-  EXPECT_TRUE(report.problems.empty()) << report.problems.front();
+  const CaseReport report = ExpectMeshPassingEveryCheck(randomCase);
   EXPECT_FALSE(report.result.promisedManifold) << "the case is no longer the one";
   EXPECT_TRUE(report.result.regularizationBudgetReached);
   EXPECT_LT(report.result.regularizationRounds, 13u);
@@ -1476,9 +1480,7 @@ TEST(RandomizedRegression, SurfaceBallIsMeasuredToItsNearestCorner)
 {
   const RandomCase randomCase = MakeCase(Family::SaltAndPepper, 2073625);
   ASSERT_EQ(randomCase.settings.radiusEdgeBound, 2.0) << "the case is no longer the one";
-  const CaseReport report = RunCase(randomCase);
-  ASSERT_EQ(report.result.outcome, Outcome::Mesh) << report.result.message;
-  EXPECT_TRUE(report.problems.empty()) << report.problems.front();
+  ExpectMeshPassingEveryCheck(randomCase);
 }
 
 /** The regularisation rounds stopped after two rounds that left 7 non-manifold places where the repair began with 6,
@@ -1491,10 +1493,8 @@ TEST(RandomizedRegression, FewPlacesThatFluctuateDoNotStopTheRounds)
 {
   const RandomCase randomCase = MakeCase(Family::SaltAndPepper, 2075775);
   ASSERT_EQ(randomCase.settings.radiusEdgeBound, 2.0) << "the case is no longer the one";
-  const CaseReport report = RunCase(randomCase);
-  ASSERT_EQ(report.result.outcome, Outcome::Mesh) << report.result.message;
+  const CaseReport report = ExpectMeshPassingEveryCheck(randomCase);
   EXPECT_TRUE(report.result.promisedManifold) << "the case is no longer the one";
-  EXPECT_TRUE(report.problems.empty()) << report.problems.front();
   EXPECT_EQ(report.result.nonManifoldBoundaries, 0u);
 }
 
