@@ -145,12 +145,7 @@ public:
   }
 
   /** The surface ball of a restricted facet with corners `a`, `b`, `c` whose dual Voronoi edge joins `center` and
-   * `otherEnd` (centred where the edge crosses the surface), with R3's threshold for it. Its radius is the distance
-   * to the nearest of the three corners: on the exact Voronoi edge the three are equal, but its ends are
-   * floating-point constructions (cached circumcentres, or a far point of a Voronoi ray), a point between them is
-   * equidistant from the corners only up to their error, and R3's new vertex must be at least the threshold from each
-   * corner (Lemma 2). Measured from `a` alone, the randomized SaltAndPepper 2073625 (ρ = 2, σ = 0) inserted a feature
-   * vertex 1.3e-8 of the local δ closer than that to another; no bench or hostile-shape mesh changed. */
+   * `otherEnd` (centred where the edge crosses the surface), with R3's threshold for it. */
   struct SurfaceBall
   {
     Vector3 center;
@@ -170,9 +165,7 @@ public:
                 const Vector3 & c) const
   {
     const Vector3 ballCenter = m_Oracle.SurfaceCrossing(center, otherEnd);
-    const double  squaredRadius =
-      std::min({ SquaredNorm(ballCenter - a), SquaredNorm(ballCenter - b), SquaredNorm(ballCenter - c) });
-    return { ballCenter, squaredRadius, SurfaceBallThreshold(ballCenter, a, b, c) };
+    return { ballCenter, SquaredNorm(ballCenter - a), SurfaceBallThreshold(ballCenter, a, b, c) };
   }
 
 private:
