@@ -700,28 +700,27 @@ private:
     while (!places.places.empty())
     {
       m_Relabelling.Revert();
-      bool repaired = false;
-      bool regularized = false;
+      bool              repaired = false;
+      bool              regularized = false;
+      const std::size_t insertionsBefore = Insertions();
       if (m_Regularizer && m_Statistics.topologyRegularizationRounds < m_Parameters.topologyRegularizationRounds &&
           !m_Statistics.topologyRegularizationBudgetReached)
       {
-        const std::size_t insertionsBefore = Insertions();
         repaired = regularized = RegularizeAround(places);
-        if (repaired)
-        {
-          RefineAndPerturbFlatTetrahedra();
-        }
-        m_RegularizationInsertions += Insertions() - insertionsBefore;
-        m_Statistics.topologyRegularizationBudgetReached =
-          m_RegularizationInsertions > *m_RegularizationInsertionBudget;
       }
       else
       {
         repaired = HalveDeltaAround(places);
-        if (repaired)
-        {
-          RefineAndPerturbFlatTetrahedra();
-        }
+      }
+      if (repaired)
+      {
+        RefineAndPerturbFlatTetrahedra();
+      }
+      if (regularized)
+      {
+        m_RegularizationInsertions += Insertions() - insertionsBefore;
+        m_Statistics.topologyRegularizationBudgetReached =
+          m_RegularizationInsertions > *m_RegularizationInsertionBudget;
       }
       places = RelabelAndFindNonManifoldPlaces();
       roundsWithMorePlaces =
@@ -733,8 +732,8 @@ private:
       // count at the start, the scale of its fluctuation: a ball that mends a place can leave one or two beside it,
       // which a few places feel and many do not (SaltAndPepper 2075775, whose boundary is promised a manifold: 6
       // places, then 7 and 7, and the rounds stopped; 6, 2 and 0 came next). The budget of insertions bounds what
-      // the rounds cost either way. One such round is allowed: a ball that cuts a
-      // pinch can leave a smaller one beside it, which the next round's larger ball settles (SheetsAndLines 3029473 of
+      // the rounds cost either way. One such round is allowed: a ball that cuts a pinch can leave a smaller one beside
+      // it, which the next round's larger ball settles (SheetsAndLines 3029473 of
       // the randomized suite: 2 places, 3 after the δ balls, none after the 2δ balls). Measured without a stop: Blobs
       // 1000030 (ρ = 1, δ = 0.64 voxel) began with 127 places and kept 120 to 260 through all 20 rounds, five times
       // the run's time for a worse mesh; the bench images' rounds only ever decrease.

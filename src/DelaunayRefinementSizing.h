@@ -57,42 +57,19 @@ public:
   double
   LocalDelta(const Vector3 & point) const
   {
-    double delta = m_Delta;
-    if (m_Zones.empty())
-    {
-      return delta;
-    }
-    m_ZoneCenters.ForEachWithin(point, ZoneRadiusFactor * m_Delta, [&](std::size_t zone) {
-      if (SquaredNorm(point - m_Zones[zone].center) < m_Zones[zone].squaredRadius)
-      {
-        delta = std::min(delta, m_Zones[zone].delta);
-      }
-    });
-    return delta;
+    return SmallestDeltaMeeting(point, 0.0);
   }
 
   /** The δ R2 uses for a tetrahedron whose circumball has `radius` around `center`: the δ at the circumcentre, or the
    * δ of a finer zone of reach ZoneReach::Circumballs that the circumball meets. Such a zone is made for a part of a
    * label that the refinement left without a tetrahedron (Refiner::WithEveryThickPart): the part can sit inside
    * tetrahedra of another label whose circumcentres lie outside its zone, where no rule reading the δ at its own
-   * point would see the zone (docs/algorithm.md, "Local sampling distance"). */
+   * point would see the zone (docs/algorithm.md, "Local sampling distance"). Until such a zone exists the scan stays
+   * as small as LocalDelta's. */
   double
   DeltaForCircumball(const Vector3 & center, double radius) const
   {
-    if (!m_AnyZoneReachesCircumballs)
-    {
-      return LocalDelta(center);
-    }
-    double delta = m_Delta;
-    m_ZoneCenters.ForEachWithin(center, radius + ZoneRadiusFactor * m_Delta, [&](std::size_t zone) {
-      const Zone & candidate = m_Zones[zone];
-      const double reach = candidate.reach == ZoneReach::Circumballs ? radius + candidate.radius : candidate.radius;
-      if (SquaredNorm(center - candidate.center) < reach * reach)
-      {
-        delta = std::min(delta, candidate.delta);
-      }
-    });
-    return delta;
+    return SmallestDeltaMeeting(center, m_AnyZoneReachesCircumballs ? radius : 0.0);
   }
 
   /** Whether a triangle with these corners keeps R1's bound as a boundary facet: its circumradius below the local δ
@@ -119,7 +96,7 @@ public:
   {
     radius = std::min(radius, ZoneRadiusFactor * m_Delta);
     m_ZoneCenters.Insert(point, m_Zones.size());
-    m_Zones.push_back({ point, radius, radius * radius, delta, reach });
+    m_Zones.push_back({ point, radius, delta, reach });
     m_AnyZoneReachesCircumballs = m_AnyZoneReachesCircumballs || reach == ZoneReach::Circumballs;
     return radius;
   }
@@ -142,6 +119,27 @@ public:
   }
 
 private:
+  /** The smallest δ of the zones that hold `center` (reach ZoneReach::Points) or that the ball of `radius` around it
+   * meets (reach ZoneReach::Circumballs), δ when none does; with `radius` 0 both mean the zones holding `center`. */
+  double
+  SmallestDeltaMeeting(const Vector3 & center, double radius) const
+  {
+    double delta = m_Delta;
+    if (m_Zones.empty())
+    {
+      return delta;
+    }
+    m_ZoneCenters.ForEachWithin(center, radius + ZoneRadiusFactor * m_Delta, [&](std::size_t zone) {
+      const Zone & candidate = m_Zones[zone];
+      const double reach = candidate.reach == ZoneReach::Circumballs ? radius + candidate.radius : candidate.radius;
+      if (SquaredNorm(center - candidate.center) < reach * reach)
+      {
+        delta = std::min(delta, candidate.delta);
+      }
+    });
+    return delta;
+  }
+
   /** Zone radius in units of the sampling distance it refines: wide enough to hold the restricted facets
    * (circumradius < δ) around the offending vertex. */
   static constexpr double ZoneRadiusFactor = 3.0;
@@ -150,7 +148,6 @@ private:
   {
     Vector3   center;
     double    radius;
-    double    squaredRadius;
     double    delta;
     ZoneReach reach;
   };
