@@ -46,8 +46,8 @@ public:
     : m_State(state)
   {}
 
-  /** The tetrahedra whose circumcentre is inside the object, in a canonical order, with the local δ of `sizing`
-   * at each point. */
+  /** The tetrahedra whose circumcentre is inside the object, in a canonical order, with the sampling distance of
+   * `sizing` at each point. */
   TetrahedralMesh
   ExtractMesh(const LocalSampling & sizing) const
   {
@@ -56,7 +56,7 @@ public:
     NumberOutputVertices(objectCells, mesh);
     for (const Vector3 & point : mesh.points)
     {
-      mesh.pointSamplingDistances.push_back(sizing.LocalDelta(point));
+      mesh.pointSamplingDistances.push_back(sizing.SamplingDistanceOf(point));
     }
     AddTetrahedra(objectCells, mesh);
     AddBoundaryTriangles(objectCells, mesh);

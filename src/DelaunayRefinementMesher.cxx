@@ -150,6 +150,7 @@ private:
           return m_BoxProtection.ProtectBox(action.point, cell);
         }
         ++m_Statistics.insertionsR2;
+        m_Sizing.NoteFinerSample(action.point, action.localDelta);
         return m_State.InsertVertex(action.point, VertexKind::Free, cell).has_value();
       case Rule::R3:
         ++m_Statistics.insertionsR3;

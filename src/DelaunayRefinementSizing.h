@@ -28,6 +28,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <map>
 #include <vector>
 
 namespace delaunay_refinement
@@ -70,6 +71,29 @@ public:
   DeltaForCircumball(const Vector3 & center, double radius) const
   {
     return SmallestDeltaMeeting(center, m_AnyZoneReachesCircumballs ? radius : 0.0);
+  }
+
+  /** Records that R2 inserted a vertex at `point` honouring `delta`, the δ of a zone its circumball met
+   * (DeltaForCircumball), when that is finer than the δ of the zones holding `point`: the vertex lies outside the
+   * zone, and its edges are bounded by `delta`, not by LocalDelta there. The exported sizing reads it back
+   * (SamplingDistanceOf), so that it states what the refinement honoured at every point. */
+  void
+  NoteFinerSample(const Vector3 & point, double delta)
+  {
+    if (delta < LocalDelta(point))
+    {
+      const auto [entry, inserted] = m_FinerSamples.emplace(point, delta);
+      entry->second = std::min(entry->second, delta);
+    }
+  }
+
+  /** The sampling distance a vertex at `point` honours: the local δ, or the finer δ R2 inserted it with. */
+  double
+  SamplingDistanceOf(const Vector3 & point) const
+  {
+    const double local = LocalDelta(point);
+    const auto   finer = m_FinerSamples.find(point);
+    return finer == m_FinerSamples.end() ? local : std::min(local, finer->second);
   }
 
   /** Whether a triangle with these corners keeps R1's bound as a boundary facet: its circumradius below the local δ
@@ -156,6 +180,8 @@ private:
   std::vector<Zone>        m_Zones;
   SpatialGrid<std::size_t> m_ZoneCenters;
   bool                     m_AnyZoneReachesCircumballs{ false };
+  /** NoteFinerSample's points; few, since only zones of reach ZoneReach::Circumballs make them. */
+  std::map<Vector3, double> m_FinerSamples;
 };
 
 } // namespace detail

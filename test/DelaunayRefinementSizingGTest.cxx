@@ -84,3 +84,27 @@ TEST(LocalSampling, TheFinestZoneMetWins)
   EXPECT_EQ(sizing.DeltaForCircumball(ZoneCenter, 2.9), 0.0625)
     << "the finer of the two rescue zones it meets; the point zone does not hold its centre";
 }
+
+/** A free vertex that R2 inserted for a circumball meeting a rescue zone lies outside that zone, and its edges are
+ * bounded by the zone's δ only: the sampling distance exported for it must say so, or a check of every edge against
+ * the exported sizing fails where the refinement kept its own bound (the randomized SaltAndPepper 2077343 has edges of
+ * 1.87 between a feature vertex and such a free vertex, whose local δ read at its point was 2.35). A sample at a δ the
+ * point already has is not recorded, and other points keep their local δ. */
+TEST(LocalSampling, AFreeVertexOutsideTheZoneItWasInsertedForKeepsTheZonesDelta)
+{
+  dr::detail::LocalSampling sizing(Delta);
+  sizing.AddZone(ZoneCenter, 0.125, 0.75, dr::detail::ZoneReach::Circumballs);
+  const dr::Vector3 circumcenter = AlongX(1.0);
+  const double      deltaUsed = sizing.DeltaForCircumball(circumcenter, 0.9);
+  ASSERT_EQ(deltaUsed, 0.125);
+  EXPECT_EQ(sizing.SamplingDistanceOf(circumcenter), Delta) << "nothing recorded yet";
+  sizing.NoteFinerSample(circumcenter, deltaUsed);
+  EXPECT_EQ(sizing.SamplingDistanceOf(circumcenter), 0.125);
+  EXPECT_EQ(sizing.LocalDelta(circumcenter), Delta) << "the rules' reading at the point does not change";
+  EXPECT_EQ(sizing.SamplingDistanceOf(AlongX(1.0 + 1e-12)), Delta) << "only the vertex itself";
+  sizing.NoteFinerSample(circumcenter, 0.5);
+  EXPECT_EQ(sizing.SamplingDistanceOf(circumcenter), 0.125) << "a coarser note does not undo a finer one";
+  sizing.NoteFinerSample(AlongX(0.5), 0.125);
+  sizing.NoteFinerSample(AlongX(0.5), 0.0625);
+  EXPECT_EQ(sizing.SamplingDistanceOf(AlongX(0.5)), 0.0625) << "finer than the zone that holds it";
+}
