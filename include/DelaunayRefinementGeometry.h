@@ -275,6 +275,29 @@ TriangleCircumradius(const Vector3 & a, const Vector3 & b, const Vector3 & c)
   return std::isnan(circumradius) ? std::numeric_limits<double>::infinity() : circumradius;
 }
 
+/** The point nearest to `point` on the line through the circumcentre of triangle `a`, `b`, `c` perpendicular to its
+ * plane: the exact Voronoi line of a facet, every point of which is equidistant from the three corners. A point found
+ * between two computed circumcentres (a restricted facet's surface ball, R3) lies on that line only up to their
+ * rounding, which the circumcentres of flat tetrahedra amplify; computed from the corners, offsets from `a`, the
+ * distances agree to a few ulps of the triangle's own conditioning. A degenerate triangle has no such line: `point`
+ * is returned. */
+inline Vector3
+NearestPointOnCircumcenterAxis(const Vector3 & a, const Vector3 & b, const Vector3 & c, const Vector3 & point)
+{
+  const Vector3 u = b - a;
+  const Vector3 v = c - a;
+  const Vector3 normal = Cross(u, v);
+  const double  squaredNormal = SquaredNorm(normal);
+  if (!(squaredNormal > 0.0))
+  {
+    return point;
+  }
+  const Vector3 toCircumcenter =
+    (1.0 / (2.0 * squaredNormal)) * (SquaredNorm(u) * Cross(v, normal) + SquaredNorm(v) * Cross(normal, u));
+  const Vector3 offset = point - a - toCircumcenter;
+  return a + toCircumcenter + (Dot(offset, normal) / squaredNormal) * normal;
+}
+
 } // namespace delaunay_refinement
 
 #endif
