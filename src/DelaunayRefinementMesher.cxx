@@ -150,8 +150,12 @@ private:
           return m_BoxProtection.ProtectBox(action.point, cell);
         }
         ++m_Statistics.insertionsR2;
+        if (!m_State.InsertVertex(action.point, VertexKind::Free, cell))
+        {
+          return false;
+        }
         m_Sizing.NoteFinerSample(action.point, action.localDelta);
-        return m_State.InsertVertex(action.point, VertexKind::Free, cell).has_value();
+        return true;
       case Rule::R3:
         ++m_Statistics.insertionsR3;
         return m_State.InsertFeatureVertex(action.point, action.localDelta, cell);
