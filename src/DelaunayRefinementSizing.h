@@ -80,7 +80,7 @@ public:
   void
   NoteFinerSample(const Vector3 & point, double delta)
   {
-    if (delta < LocalDelta(point))
+    if (m_AnyZoneReachesCircumballs && delta < LocalDelta(point))
     {
       const auto [entry, inserted] = m_FinerSamples.emplace(point, delta);
       entry->second = std::min(entry->second, delta);
