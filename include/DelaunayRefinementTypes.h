@@ -147,7 +147,9 @@ struct TetrahedralMesh
   std::vector<std::array<uint32_t, 3>> boundaryTriangles;
   std::vector<std::array<Label, 2>>    boundaryTriangleLabels;
   /** The surface sampling distance the refinement used at each point when it ended (docs/algorithm.md, "Local
-   * sampling distance"): δ, or less inside the zones of the opt-in manifold refinement. Lemma 2's edge bounds hold
+   * sampling distance"): δ, or less inside the zones of finer sampling (around small parts, and of the opt-in
+   * manifold refinement), or the finer δ of a zone made for a part left without a tetrahedron for the free vertices
+   * R2 inserted outside it because their circumballs met it. Lemma 2's edge bounds hold
    * with the smaller value of an edge's two ends where the sizing is uniform, and with the finest value next to zones
    * (R3's threshold there is also a facet's shortest edge, which carries a zone's δ beyond it). Exported so that
    * tests check edges against the sizing actually used rather than against the refinement's statistics. */
