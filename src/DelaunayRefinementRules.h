@@ -175,22 +175,23 @@ public:
   SurfaceBallOf(const Vector3 & center, const Vector3 & otherEnd, const Vector3 & a, const Vector3 & b,
                 const Vector3 & c) const
   {
+    const auto ballAt = [&](const Vector3 & ballCenter) {
+      return SurfaceBall{ ballCenter, SquaredNorm(ballCenter - a), SurfaceBallThreshold(ballCenter, a, b, c) };
+    };
     const Vector3 crossing = m_Oracle.SurfaceCrossing(center, otherEnd);
-    const double  squaredRadius = SquaredNorm(crossing - a);
     const auto [nearest, farthest] =
-      std::minmax({ squaredRadius, SquaredNorm(crossing - b), SquaredNorm(crossing - c) });
+      std::minmax({ SquaredNorm(crossing - a), SquaredNorm(crossing - b), SquaredNorm(crossing - c) });
     if (farthest - nearest <= OffVoronoiLineTolerance * farthest)
     {
-      return { crossing, squaredRadius, SurfaceBallThreshold(crossing, a, b, c) };
+      return ballAt(crossing);
     }
     const Vector3 lineStart = NearestPointOnCircumcenterAxis(a, b, c, center);
     const Vector3 lineEnd = NearestPointOnCircumcenterAxis(a, b, c, otherEnd);
     if (m_Oracle.LabelAt(lineStart) == m_Oracle.LabelAt(lineEnd))
     {
-      return { crossing, squaredRadius, SurfaceBallThreshold(crossing, a, b, c) };
+      return ballAt(crossing);
     }
-    const Vector3 ballCenter = m_Oracle.SurfaceCrossing(lineStart, lineEnd);
-    return { ballCenter, SquaredNorm(ballCenter - a), SurfaceBallThreshold(ballCenter, a, b, c) };
+    return ballAt(m_Oracle.SurfaceCrossing(lineStart, lineEnd));
   }
 
 private:
