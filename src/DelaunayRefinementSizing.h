@@ -82,8 +82,8 @@ public:
   {
     if (m_AnyZoneReachesCircumballs && delta < LocalDelta(point))
     {
-      const auto [entry, inserted] = m_FinerSamples.emplace(point, delta);
-      entry->second = std::min(entry->second, delta);
+      double & recorded = m_FinerSamples.emplace(point, delta).first->second;
+      recorded = std::min(recorded, delta);
     }
   }
 
