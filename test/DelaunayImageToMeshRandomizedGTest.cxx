@@ -944,6 +944,16 @@ OnlySeed()
   return static_cast<uint64_t>(std::strtoull(text, nullptr, 10));
 }
 
+/** With σ > 0 Lemma 5 is not promised (CheckBoundaryGuarantees): R4′ splits a sliver at a point that fails its
+ * acceptance test when no candidate passes (a forced split), and that point may be a free vertex on a boundary. A free
+ * boundary vertex without any forced split in its mesh is rare, because R4′'s acceptance test rejects every point
+ * that puts a free vertex on a boundary (SliverSplit::NewBoundaryTrianglesAreGood). Measured over the searches of
+ * 14,400 to 16,000 cases per family: at most 1.1 % of the cases (Mixed 159 of 14,400, SaltAndPepper 99 of 16,000, the
+ * others 0.02 to 0.15 %). With that test accepting every point (the mutation check's split-accepts-any-boundary), 18
+ * of the first 100 Mixed cases, and every mesh the suite checks still met its other checks: this bound is the suite's
+ * only view of that test. */
+constexpr double MaximumShareOfFreeBoundaryVerticesWithoutForcedSplits = 0.05;
+
 struct FamilyRun
 {
   Family      family;
@@ -1039,6 +1049,12 @@ TEST_P(RandomizedImages, MeshMeetsEveryGuaranteeOrFailsAsDocumented)
     const std::size_t meshes = summary.outcomes[Outcome::Mesh];
     EXPECT_GE(static_cast<double>(meshes), run.minimumMeshFraction * static_cast<double>(seeds.size()))
       << meshes << " meshes of " << seeds.size() << " cases";
+    const std::size_t unforced =
+      summary.meshesWithFreeBoundaryVertices - summary.meshesWithFreeBoundaryVerticesAndForcedSplits;
+    EXPECT_LE(static_cast<double>(unforced),
+              MaximumShareOfFreeBoundaryVerticesWithoutForcedSplits * static_cast<double>(seeds.size()))
+      << unforced << " meshes of " << seeds.size() << " cases have a free vertex on a boundary (sigma > 0) without a "
+      << "forced R4' split: R4' accepts points that put free vertices on boundaries";
   }
 }
 
