@@ -950,8 +950,8 @@ OnlySeed()
  * that puts a free vertex on a boundary (SliverSplit::NewBoundaryTrianglesAreGood). Measured over the searches of
  * 14,400 to 16,000 cases per family: at most 1.1 % of the cases (Mixed 159 of 14,400, SaltAndPepper 99 of 16,000, the
  * others 0.02 to 0.15 %). With that test accepting every point (the mutation check's split-accepts-any-boundary), 18
- * of the first 100 Mixed cases, and every mesh the suite checks still met its other checks: this bound is the suite's
- * only view of that test. */
+ * of the first 100 Mixed cases, and every mesh the suite checks still met its other checks: besides the pinned meshes
+ * (fingerprints, baselines), this bound is the only test that sees it. */
 constexpr double MaximumShareOfFreeBoundaryVerticesWithoutForcedSplits = 0.05;
 
 struct FamilyRun
