@@ -32,6 +32,9 @@
 #   split-accepts-any-boundary    R4' accepts a split point whatever the boundary triangles it makes (free vertices,
 #                                 angles)
 #   move-skips-rules              R4''s corner moves are accepted even where R1-R4 apply to the cells they create
+#   origin-dropped                the oracle's label image loses the input's origin (zero instead)
+#   genus-halved                  the surface topology reports half the genus of each boundary component
+#   refinement-ignores-abort      the refinement goes on when its progress observer asks it to stop
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -66,8 +69,8 @@
 #   map-update-one-slice (2026-11-27, run with DELAUNAY_MUTATION_CTEST_ARGS="-R OracleDistance" only): caught by
 #                       OracleDistance.LocalRegularizationAnswersAsAnOracleOfTheNewLabels; the rest of the suite was not
 #                       run on it
-# The twelve newer mutations, run on 2026-11-28 at 04c944d (347 tests, about 4 minutes each on 2 cores, builds from
-# ccache):
+# The fifteen newer mutations, run on 2026-11-28 at 04c944d, the last three at ba7ad32 (the same library code); 347
+# tests, about 4 minutes each on 2 cores, builds from ccache:
 #   unmeshed-parts-unreported     13 tests: seven randomized families (the components counted from the labels against
 #                                 the filter's list), six randomized regressions
 #   thick-parts-not-refined       15 tests: seven randomized families (a component a delta across without a
@@ -77,8 +80,8 @@
 #                                 mask and k-means guarantee tests without sliver removal, five regressions
 #   union-unchecked               28 tests: KmeansTissues.UnionBoundaryIsAClosedManifold, the speckle hostile shapes
 #                                 at 1, 2, 3, 5 and 6 x the voxel, seven randomized families, regressions
-#   spacing-first-axis            7 tests: OracleDistance.ClosestSurfacePointIsAnInterfaceFaceCentreWithinTheProvenBound,
-#                                 the ThinImages family, the fingerprints and the k-means baseline
+#   spacing-first-axis            7 tests: OracleDistance.ClosestSurfacePointIsAnInterfaceFaceCentreWithin-
+#                                 TheProvenBound, the ThinImages family, the fingerprints and the k-means baseline
 #   removed-components-uncounted  7 tests: the regularisation against its definition on five grids, its thread test,
 #                                 the command-line LostTissue test
 #   distance-one-sided            2 tests: TwoSidedDistance.ShiftedUnitSquare and EqualsItsPartsComputedOneByOne
@@ -96,6 +99,12 @@
 #                                 the cells a move creates are queued, and the refinement resumes on them, so the
 #                                 acceptance test's "no rule applies" saves work (and keeps a move from being undone
 #                                 by the next split) rather than guarding a bound
+#   origin-dropped                40 tests: the physical-space tests (oblique anisotropic ball, non-zero start index,
+#                                 direction matrix), the voxelizer, the gray image's iso-surface, randomized families
+#   genus-halved                  22 tests: SurfaceTopology.GridTorusHasGenusOne and ...GeneraAddUp, the analytic
+#                                 torus at every delta and rho, the core report's table
+#   refinement-ignores-abort      5 tests: CoreLimits.ObserverCanAbort, Abort.DuringRefinementStopsWithinASecond, the
+#                                 filter's Progress tests (abort promptly, run again after an abort)
 # Rerun for two mutations after the relabelling at non-manifold places (issue #14, 4fa555f), with
 # DELAUNAY_MUTATION_CTEST_ARGS="-R KmeansTissues|HostileShapes|RandomizedImages|IndependentQuality|Fingerprint|
 # TwoSpheres|CoreFidelity": skip-interface-r3 caught by 13 tests (KmeansTissues.GuaranteesHold and
@@ -110,7 +119,7 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   relabel-any-angle no-regularization direction-dropped report-five-edges map-update-one-slice
   unmeshed-parts-unreported thick-parts-not-refined finer-sample-not-exported flat-threshold-1e-8 union-unchecked
   spacing-first-axis removed-components-uncounted distance-one-sided pinches-kept regularization-half-scale
-  split-accepts-any-boundary move-skips-rules)
+  split-accepts-any-boundary move-skips-rules origin-dropped genus-halved refinement-ignores-abort)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -285,7 +294,8 @@ apply_mutation() {
       ;;
     distance-one-sided)
       mutate "$tree/src/DelaunayRefinementSurfaceDistance.cxx" \
-        'SummarizeMeanAndMaximum(begin, end, result.combined);' 'SummarizeMeanAndMaximum(begin, middle, result.combined);'
+        'SummarizeMeanAndMaximum(begin, end, result.combined);' \
+        'SummarizeMeanAndMaximum(begin, middle, result.combined);'
       mutate "$tree/src/DelaunayRefinementSurfaceDistance.cxx" \
         'SummarizePercentile95(begin, end, result.combined);' 'SummarizePercentile95(begin, middle, result.combined);'
       ;;
@@ -306,6 +316,17 @@ apply_mutation() {
     move-skips-rules)
       mutate "$tree/src/DelaunayRefinementSliverPerturbation.h" \
         'if (acceptance == Acceptance::EveryRule)' 'if (false)'
+      ;;
+    origin-dropped)
+      mutate "$tree/include/itkImageLabelSelection.h" 'labels->SetOrigin(image.GetOrigin());' ''
+      ;;
+    genus-halved)
+      mutate "$tree/src/DelaunayRefinementSurfaceTopology.cxx" \
+        'return static_cast<int>((2 - eulerCharacteristic) / 2);' \
+        'return static_cast<int>((2 - eulerCharacteristic) / 4);'
+      ;;
+    refinement-ignores-abort)
+      mutate "$tree/src/DelaunayRefinementMesher.cxx" 'if (!m_Observer(progress))' 'if (!m_Observer(progress) && false)'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2
