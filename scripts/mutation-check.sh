@@ -143,10 +143,10 @@ apply_mutation() {
   case $name in
     core-uses-2delta)
       mutate "$tree/src/DelaunayRefinementMesher.cxx" \
-        'detail::Refiner      refiner(oracle, parameters, observer, regularizer);' \
+        'detail::Refiner      refiner(oracle, parameters, observer, regularizer, census);' \
         'RefinementParameters mutated = parameters;
   mutated.surfaceSamplingDistance *= 2.0;
-  detail::Refiner      refiner(oracle, mutated, observer, regularizer);'
+  detail::Refiner      refiner(oracle, mutated, observer, regularizer, census);'
       ;;
     drop-smallest)
       mutate "$tree/src/DelaunayRefinementExtraction.h" \
@@ -205,13 +205,13 @@ apply_mutation() {
       {
         continue;
       }
-      const CellHandle neighbor = cell->neighbor(facet);' \
+      const CellHandle  neighbor = cell->neighbor(facet);' \
         '      if (otherLabel == cell->cache.label ||
           (otherLabel != BackgroundLabel && cell->cache.label != BackgroundLabel))
       {
         continue;
       }
-      const CellHandle neighbor = cell->neighbor(facet);'
+      const CellHandle  neighbor = cell->neighbor(facet);'
       ;;
     sliver-rule-skipped)
       mutate "$tree/src/DelaunayRefinementRules.h" \
