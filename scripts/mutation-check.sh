@@ -4,6 +4,8 @@
 # leaves every test green is a hole in the suite; the script then fails.
 #
 #   scripts/mutation-check.sh [MUTATION...]   # default: all of them
+#   scripts/mutation-check.sh --dry-run       # only checks that every mutation still applies to the source (a
+#                                             # CTest test runs it, so that a mutation cannot silently drift)
 #
 #   core-uses-2delta     the core silently meshes with 2δ instead of δ (RefineMesh doubles the parameter)
 #   drop-smallest        the output drops the tetrahedra of its smallest connected component (when it has several)
@@ -334,6 +336,26 @@ apply_mutation() {
       ;;
   esac
 }
+
+if [ "${1:-}" = --dry-run ]; then
+  # Each mutation on a fresh copy of the sources it edits; nothing is built.
+  scratch=$(mktemp -d)
+  trap 'rm -rf "$scratch"' EXIT
+  drifted=0
+  for name in "${all_mutations[@]}"; do
+    rm -rf "$scratch/tree"
+    mkdir -p "$scratch/tree"
+    cp -r "$repository/src" "$repository/include" "$scratch/tree/"
+    if ! (apply_mutation "$scratch/tree" "$name") >"$scratch/log" 2>&1; then
+      echo "mutation-check: $name no longer applies:" >&2
+      cat "$scratch/log" >&2
+      drifted=$((drifted + 1))
+    fi
+  done
+  echo "mutation-check: ${#all_mutations[@]} mutations, $drifted no longer applying"
+  [ "$drifted" -eq 0 ]
+  exit
+fi
 
 mkdir -p "$work"
 summary=$work/summary.txt

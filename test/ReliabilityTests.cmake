@@ -16,3 +16,9 @@ find_package(Threads REQUIRED)
 target_link_libraries(DelaunayImageToMeshRandomizedGTests PRIVATE CGAL::CGAL Threads::Threads)
 # Each family of random cases is one test, so that CTest spreads them over the cores.
 gtest_discover_tests(DelaunayImageToMeshRandomizedGTests DISCOVERY_TIMEOUT 120 PROPERTIES TIMEOUT 900 LABELS reliability)
+
+# Every deliberate bug of scripts/mutation-check.sh must still apply to the source: a mutation whose text drifted
+# would stop the check instead of testing the suite.
+add_test(NAME DelaunayImageToMeshMutationCheck.EveryMutationApplies
+  COMMAND bash ${PROJECT_SOURCE_DIR}/scripts/mutation-check.sh --dry-run)
+set_tests_properties(DelaunayImageToMeshMutationCheck.EveryMutationApplies PROPERTIES TIMEOUT 120 LABELS reliability)
