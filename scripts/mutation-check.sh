@@ -71,6 +71,8 @@
 #   map-update-one-slice (2026-11-27, run with DELAUNAY_MUTATION_CTEST_ARGS="-R OracleDistance" only): caught by
 #                       OracleDistance.LocalRegularizationAnswersAsAnOracleOfTheNewLabels; the rest of the suite was not
 #                       run on it
+# Rerun on 2026-11-28 at 4eae8df, once their text followed the source again: core-uses-2delta caught by 125 tests,
+# skip-interface-r3 by 29.
 # The fifteen newer mutations, run on 2026-11-28 at 04c944d, the last three at ba7ad32 (the same library code); 347
 # tests, about 4 minutes each on 2 cores, builds from ccache:
 #   unmeshed-parts-unreported     13 tests: seven randomized families (the components counted from the labels against
