@@ -339,15 +339,21 @@ apply_mutation() {
   esac
 }
 
+# A fresh copy at $1 of the working tree as it is (committed or not), without its build directories and VCS data:
+# what each mutation edits, in the dry run as in a real run.
+copy_tree() {
+  rm -rf "$1"
+  mkdir -p "$1"
+  tar -C "$repository" --exclude=./.git --exclude='./build' --exclude='./build-*' -cf - . | tar -C "$1" -xf -
+}
+
 if [ "${1:-}" = --dry-run ]; then
-  # Each mutation on a fresh copy of the sources it edits; nothing is built.
+  # Each mutation on a fresh copy of the tree; nothing is built.
   scratch=$(mktemp -d)
   trap 'rm -rf "$scratch"' EXIT
   drifted=0
   for name in "${all_mutations[@]}"; do
-    rm -rf "$scratch/tree"
-    mkdir -p "$scratch/tree"
-    cp -r "$repository/src" "$repository/include" "$scratch/tree/"
+    copy_tree "$scratch/tree"
     if ! (apply_mutation "$scratch/tree" "$name") >"$scratch/log" 2>&1; then
       echo "mutation-check: $name no longer applies:" >&2
       cat "$scratch/log" >&2
@@ -368,10 +374,7 @@ for name in "${mutations[@]}"; do
   tree=$work/$name
   build=$tree/build
   echo "== Mutation $name: copying the tree to $tree"
-  rm -rf "$tree"
-  mkdir -p "$tree"
-  # The working tree as it is (committed or not), without its build directories and VCS data.
-  tar -C "$repository" --exclude=./.git --exclude='./build' --exclude='./build-*' -cf - . | tar -C "$tree" -xf -
+  copy_tree "$tree"
   apply_mutation "$tree" "$name"
   echo "== Mutation $name: building in $build"
   log=$work/$name.build.log
