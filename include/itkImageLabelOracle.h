@@ -128,6 +128,12 @@ public:
     return m_LabelImage;
   }
 
+  /** The interface voxel (one with a face neighbour of another label in GetLabelImage()) nearest to the centre of
+   * the label image's voxel `index`, from the feature transform, which is exact at voxel centres (of equally near
+   * ones, any); false when the label image has no interface voxel. */
+  bool
+  NearestInterfaceVoxel(const IndexType & index, IndexType & nearest) const;
+
   /** Whether the regularisation, the joining of diagonal voxels or the local regularisation changed a voxel: then
    * the label image is no longer the selection (ImageLabelSelection::SelectedLabelImage gives that). */
   bool
@@ -182,19 +188,39 @@ private:
   CountObjectVoxels();
   void
   MarkInterfaceVoxels(SizeValueType firstSlice, SizeValueType endSlice);
-  /** Scratch space of one pass of the feature transform along a line of `length` voxels. */
+  /** Lines along y or z that one pass reads and writes together: one 64-byte cache line of the map per voxel along
+   * the axis, where one line at a time would read a cache line for every one of its voxels. */
+  static constexpr SizeValueType LinesPerGather = 16;
+  /** Scratch space of one pass of the feature transform along lines of `length` voxels `step` apart. */
   struct LowerEnvelope
   {
-    explicit LowerEnvelope(SizeValueType length)
-      : height(length)
+    LowerEnvelope(SizeValueType length, double step)
+      : position(length)
+      , positionSquared(length)
+      , height(length)
+      , liftedHeight(length)
       , site(length)
       , parabola(length)
       , leftBoundary(length)
-    {}
-    std::vector<double>        height;
+      , gathered(length * LinesPerGather)
+    {
+      for (SizeValueType t = 0; t < length; ++t)
+      {
+        position[t] = static_cast<double>(t) * step;
+        positionSquared[t] = position[t] * position[t];
+      }
+    }
+    /** Voxel t's position along the line, and its square: the same for every line of a pass. */
+    std::vector<double> position;
+    std::vector<double> positionSquared;
+    std::vector<double> height;
+    /** height + positionSquared: the parabola's value at the line's origin. */
+    std::vector<double>        liftedHeight;
     std::vector<uint32_t>      site;
     std::vector<SizeValueType> parabola;
     std::vector<double>        leftBoundary;
+    /** The map's values on up to LinesPerGather adjacent lines, voxel by voxel along the axis. */
+    std::vector<uint32_t> gathered;
   };
   /** The pass along `axis` on the lines firstLine..endLine - 1, numbered in memory order of their first voxel. */
   void
@@ -207,8 +233,11 @@ private:
   template <typename TWork>
   void
   InParallel(SizeValueType count, SizeValueType voxelsPerItem, const TWork & work) const;
+  /** The pass on the line along `axis` from `lineStart` (whose offset within its block is less than the line's
+   * stride), whose map values are at values[t * valueStride] for its voxels t (the map itself or a gathered copy). */
   void
-  PropagateNearestInterfaceAlongLine(unsigned int axis, SizeValueType lineStart, LowerEnvelope & envelope);
+  PropagateNearestInterfaceAlongLine(unsigned int axis, SizeValueType lineStart, uint32_t * values,
+                                     SizeValueType valueStride, LowerEnvelope & envelope);
   /** The pass along x on the line from `lineStart`: its sites are the interface voxels themselves. */
   void
   PropagateNearestInterfaceAlongRow(SizeValueType lineStart);

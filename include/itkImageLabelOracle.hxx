@@ -218,21 +218,40 @@ void
 ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlong(unsigned int axis, SizeValueType firstLine,
                                                               SizeValueType endLine)
 {
-  const auto &        size = m_LabelImage->GetBufferedRegion().GetSize();
-  const SizeValueType stride = m_BufferStrides[axis];
-  LowerEnvelope       envelope(size[axis]);
-  // Line `line` starts in block line / stride (a block: a line along x, a z-slice along y, the image along z), at
-  // line % stride in it: consecutive lines are next to each other along x wherever they cross it.
-  for (SizeValueType line = firstLine; line < endLine; ++line)
+  const auto & size = m_LabelImage->GetBufferedRegion().GetSize();
+  if (axis == 0)
   {
-    if (axis == 0)
+    for (SizeValueType line = firstLine; line < endLine; ++line)
     {
       PropagateNearestInterfaceAlongRow(line * size[0]);
     }
-    else
+    return;
+  }
+  const SizeValueType stride = m_BufferStrides[axis];
+  const SizeValueType length = size[axis];
+  LowerEnvelope       envelope(length, m_LabelImage->GetSpacing()[axis]);
+  uint32_t * const    map = m_NearestInterfaceVoxel.data();
+  // Line `line` starts in block line / stride (a block: a z-slice along y, the image along z), at line % stride in
+  // it: consecutive lines of a block are next to each other along x, so a few of them are gathered at once.
+  for (SizeValueType line = firstLine; line < endLine;)
+  {
+    const SizeValueType lowerOffset = line % stride;
+    const SizeValueType lines = std::min({ LinesPerGather, endLine - line, stride - lowerOffset });
+    const SizeValueType lineStart = (line / stride) * stride * length + lowerOffset;
+    for (SizeValueType t = 0; t < length; ++t)
     {
-      PropagateNearestInterfaceAlongLine(axis, (line / stride) * stride * size[axis] + line % stride, envelope);
+      std::copy_n(map + lineStart + t * stride, lines, envelope.gathered.data() + t * lines);
     }
+    for (SizeValueType gatheredLine = 0; gatheredLine < lines; ++gatheredLine)
+    {
+      PropagateNearestInterfaceAlongLine(
+        axis, lineStart + gatheredLine, envelope.gathered.data() + gatheredLine, lines, envelope);
+    }
+    for (SizeValueType t = 0; t < length; ++t)
+    {
+      std::copy_n(envelope.gathered.data() + t * lines, lines, map + lineStart + t * stride);
+    }
+    line += lines;
   }
 }
 
@@ -278,37 +297,38 @@ ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlongRow(SizeValueType l
   }
 }
 
-/** The pass on the line along `axis` from `lineStart` (whose offset within its block is less than the line's
- * stride). */
 template <typename TInputImage>
 void
 ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlongLine(unsigned int axis, SizeValueType lineStart,
+                                                                  uint32_t * values, SizeValueType valueStride,
                                                                   LowerEnvelope & envelope)
 {
-  constexpr uint32_t           none = std::numeric_limits<uint32_t>::max();
-  constexpr double             infinity = std::numeric_limits<double>::infinity();
-  const auto &                 size = m_LabelImage->GetBufferedRegion().GetSize();
-  const double                 step = m_LabelImage->GetSpacing()[axis];
-  const SizeValueType          length = size[axis];
-  const SizeValueType          stride = m_BufferStrides[axis];
-  const SizeValueType          lowerOffset = lineStart % stride;
-  std::vector<double> &        height = envelope.height;
-  std::vector<uint32_t> &      site = envelope.site;
-  std::vector<SizeValueType> & parabola = envelope.parabola;
-  std::vector<double> &        leftBoundary = envelope.leftBoundary;
-  const auto                   intersection = [&](SizeValueType p, SizeValueType q) {
-    const double pPosition = static_cast<double>(p) * step;
-    const double qPosition = static_cast<double>(q) * step;
-    return (height[q] + qPosition * qPosition - height[p] - pPosition * pPosition) / (2.0 * (qPosition - pPosition));
+  constexpr uint32_t    none = std::numeric_limits<uint32_t>::max();
+  constexpr double      infinity = std::numeric_limits<double>::infinity();
+  const auto &          size = m_LabelImage->GetBufferedRegion().GetSize();
+  const SizeValueType   length = size[axis];
+  const SizeValueType   stride = m_BufferStrides[axis];
+  const SizeValueType   lowerOffset = lineStart % stride;
+  const double * const  position = envelope.position.data();
+  const double * const  positionSquared = envelope.positionSquared.data();
+  double * const        height = envelope.height.data();
+  double * const        liftedHeight = envelope.liftedHeight.data();
+  uint32_t * const      site = envelope.site.data();
+  SizeValueType * const parabola = envelope.parabola.data();
+  double * const        leftBoundary = envelope.leftBoundary.data();
+  // Where the parabolas of voxels p < q meet: (h_q + x_q² - h_p - x_p²) / (2 (x_q - x_p)), evaluated in that order.
+  const auto intersection = [&](SizeValueType p, SizeValueType q) {
+    return (liftedHeight[q] - height[p] - positionSquared[p]) / (2.0 * (position[q] - position[p]));
   };
   const SizeValueType lineCoordinates[2] = { lowerOffset % size[0], lowerOffset / size[0] };
   for (SizeValueType t = 0; t < length; ++t)
   {
     const SizeValueType offset = lineStart + t * stride;
-    site[t] = m_NearestInterfaceVoxel[offset];
+    site[t] = values[t * valueStride];
     height[t] = site[t] == none
                   ? infinity
                   : SquaredDistanceAlongLowerAxes(lineCoordinates, site[t] - (offset - lowerOffset), axis);
+    liftedHeight[t] = height[t] + positionSquared[t];
   }
   SizeValueType parabolas = 0;
   for (SizeValueType q = 0; q < length; ++q)
@@ -330,11 +350,11 @@ ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlongLine(unsigned int a
   SizeValueType current = 0;
   for (SizeValueType t = 0; t < length && parabolas > 0; ++t)
   {
-    while (current + 1 < parabolas && leftBoundary[current + 1] < static_cast<double>(t) * step)
+    while (current + 1 < parabolas && leftBoundary[current + 1] < position[t])
     {
       ++current;
     }
-    m_NearestInterfaceVoxel[lineStart + t * stride] = site[parabola[current]];
+    values[t * valueStride] = site[parabola[current]];
   }
 }
 
@@ -448,7 +468,7 @@ ImageLabelOracle<TInputImage>::UpdateNearestInterfaceMap(const std::vector<SizeV
     }
     std::copy(finalValues.begin(), finalValues.end(), first);
   }
-  LowerEnvelope envelope(size[2]);
+  LowerEnvelope envelope(size[2], m_LabelImage->GetSpacing()[2]);
   for (SizeValueType column = 0; column < sliceSize; ++column)
   {
     if (columnChanged[column])
@@ -457,7 +477,7 @@ ImageLabelOracle<TInputImage>::UpdateNearestInterfaceMap(const std::vector<SizeV
       {
         m_NearestInterfaceVoxel[column + slice * sliceSize] = m_NearestInterfaceInSlices[column + slice * sliceSize];
       }
-      PropagateNearestInterfaceAlongLine(2, column, envelope);
+      PropagateNearestInterfaceAlongLine(2, column, m_NearestInterfaceVoxel.data() + column, sliceSize, envelope);
     }
   }
 }
@@ -649,6 +669,24 @@ ImageLabelOracle<TInputImage>::NearestInterfaceFace(const Vector3 & query) const
   return { m_LabelImage->ComputeIndex(static_cast<OffsetValueType>(nearestVoxel)),
            m_LabelImage->ComputeIndex(static_cast<OffsetValueType>(nearestNeighbor)),
            std::sqrt(nearestSquaredDistance) };
+}
+
+template <typename TInputImage>
+bool
+ImageLabelOracle<TInputImage>::NearestInterfaceVoxel(const IndexType & index, IndexType & nearest) const
+{
+  const auto & region = m_LabelImage->GetBufferedRegion();
+  if (m_NearestInterfaceVoxel.empty() || !region.IsInside(index))
+  {
+    return false;
+  }
+  const uint32_t voxel = m_NearestInterfaceVoxel[static_cast<SizeValueType>(m_LabelImage->ComputeOffset(index))];
+  if (voxel == std::numeric_limits<uint32_t>::max())
+  {
+    return false;
+  }
+  nearest = m_LabelImage->ComputeIndex(static_cast<OffsetValueType>(voxel));
+  return true;
 }
 
 template <typename TInputImage>

@@ -22,9 +22,11 @@
 
 #include "DelaunayImageToMeshRandomizedChecks.h"
 #include "itkImageLabelOracle.h"
+#include "itkImageRegionConstIteratorWithIndex.h"
 
 #include <gtest/gtest.h>
 
+#include <set>
 
 namespace
 {
@@ -365,6 +367,134 @@ TEST(OracleDistance, ClosestSurfacePointIsAnInterfaceFaceCentreWithinTheProvenBo
   }
   EXPECT_GT(queriesAmongVoxelCentres, 1500u);
   EXPECT_GT(queriesNearTheLabelImage, 1500u);
+}
+
+/** The feature transform against its definition: for the centre of every voxel of the oracle's label image (a
+ * sample of them on the larger grids), the interface voxel it gives is an interface voxel (a face neighbour of
+ * another label in that image) and is as near as the nearest one, found by trying them all. The grids are
+ * anisotropic and rotated, wider than the lines the passes along y and z read together, and the larger ones share
+ * their lines among two threads, so that both a gather's short last group and a thread's short last range occur.
+ * The labels are a few balls and sparse speckle (which keeps the cropped label image about as large as the grid), so
+ * that the nearest interface is often several voxels away. */
+TEST(OracleDistance, FeatureTransformGivesTheNearestInterfaceVoxelOfEveryVoxelCentre)
+{
+  using ImageType = itk::Image<unsigned char, 3>;
+  using IndexType = itk::ImageLabelOracle<ImageType>::IndexType;
+  CaseRandom  random(20261128);
+  std::size_t voxelsChecked = 0;
+  std::size_t fartherThanThreeMillimetres = 0;
+  for (int imageNumber = 0; imageNumber < 16; ++imageNumber)
+  {
+    const bool                              large = imageNumber % 4 == 3;
+    const std::array<itk::SizeValueType, 3> size =
+      large ? std::array<itk::SizeValueType, 3>{ static_cast<itk::SizeValueType>(random.Integer(60, 80)),
+                                                 static_cast<itk::SizeValueType>(random.Integer(45, 60)),
+                                                 static_cast<itk::SizeValueType>(random.Integer(40, 50)) }
+            : std::array<itk::SizeValueType, 3>{ static_cast<itk::SizeValueType>(random.Integer(1, 40)),
+                                                 static_cast<itk::SizeValueType>(random.Integer(1, 14)),
+                                                 static_cast<itk::SizeValueType>(random.Integer(1, 14)) };
+    const std::array<double, 3> spacing{ random.Uniform(0.3, 3.0), random.Uniform(0.3, 3.0), random.Uniform(0.3, 3.0) };
+    const std::array<double, 3> origin{ random.Uniform(-5.0, 5.0), random.Uniform(-5.0, 5.0), 2.0 };
+    struct LabelledBall
+    {
+      std::array<double, 3> centre; // voxel coordinates
+      double                radius; // voxels
+      unsigned char         label;
+    };
+    std::vector<LabelledBall> balls(static_cast<std::size_t>(random.Integer(1, 4)));
+    for (LabelledBall & ball : balls)
+    {
+      for (unsigned int axis = 0; axis < 3; ++axis)
+      {
+        ball.centre[axis] = random.Uniform(0.0, static_cast<double>(size[axis]));
+      }
+      ball.radius = random.Uniform(1.0, 0.3 * static_cast<double>(size[0]));
+      ball.label = static_cast<unsigned char>(random.Integer(1, 3));
+    }
+    const double speckle = random.Uniform(0.001, 0.01);
+    auto         image =
+      MakeImageInSpace<ImageType>(size, { 2, -1, 3 }, spacing, origin, random.Rotation(), [&](std::size_t voxel) {
+        const std::array<double, 3> coordinates{ static_cast<double>(voxel % size[0]),
+                                                 static_cast<double>((voxel / size[0]) % size[1]),
+                                                 static_cast<double>(voxel / (size[0] * size[1])) };
+        unsigned char label = random.Chance(speckle) ? static_cast<unsigned char>(random.Integer(1, 3)) : 0;
+        for (const LabelledBall & ball : balls)
+        {
+          double squared = 0.0;
+          for (unsigned int axis = 0; axis < 3; ++axis)
+          {
+            squared += (coordinates[axis] - ball.centre[axis]) * (coordinates[axis] - ball.centre[axis]);
+          }
+          label = squared <= ball.radius * ball.radius ? ball.label : label;
+        }
+        return label;
+      });
+    auto interpolator = itk::NearestNeighborInterpolateImageFunction<ImageType, double>::New();
+    interpolator->SetInputImage(image);
+    itk::ImageLabelMapping mapping;
+    mapping.numberOfThreads = 2;
+    const itk::ImageLabelOracle<ImageType>       oracle(image, interpolator, mapping);
+    const auto *                                 labelImage = oracle.GetLabelImage();
+    const itk::ImageRegion<3>                    region = labelImage->GetBufferedRegion();
+    std::vector<IndexType>                       interfaceVoxels;
+    std::set<std::array<itk::IndexValueType, 3>> isInterface;
+    for (itk::ImageRegionConstIteratorWithIndex<std::remove_pointer_t<decltype(labelImage)>> it(labelImage, region);
+         !it.IsAtEnd();
+         ++it)
+    {
+      const IndexType index = it.GetIndex();
+      bool            atInterface = false;
+      for (unsigned int axis = 0; axis < 3; ++axis)
+      {
+        for (const int step : { -1, 1 })
+        {
+          IndexType neighbour = index;
+          neighbour[axis] += step;
+          atInterface = atInterface || (region.IsInside(neighbour) && labelImage->GetPixel(neighbour) != it.Get());
+        }
+      }
+      if (atInterface)
+      {
+        interfaceVoxels.push_back(index);
+        isInterface.insert({ index[0], index[1], index[2] });
+      }
+    }
+    const auto squaredDistance = [&](const IndexType & a, const IndexType & b) {
+      double squared = 0.0;
+      for (unsigned int axis = 0; axis < 3; ++axis)
+      {
+        const double difference = static_cast<double>(a[axis] - b[axis]) * spacing[axis];
+        squared += difference * difference;
+      }
+      return squared;
+    };
+    const double sampled = large ? 0.02 : 1.0;
+    for (itk::ImageRegionConstIteratorWithIndex<std::remove_pointer_t<decltype(labelImage)>> it(labelImage, region);
+         !it.IsAtEnd();
+         ++it)
+    {
+      IndexType  nearest;
+      const bool found = oracle.NearestInterfaceVoxel(it.GetIndex(), nearest);
+      ASSERT_EQ(found, !interfaceVoxels.empty()) << "image " << imageNumber << " at " << it.GetIndex();
+      if (!found || !random.Chance(sampled))
+      {
+        continue;
+      }
+      ++voxelsChecked;
+      double smallest = std::numeric_limits<double>::infinity();
+      for (const IndexType & candidate : interfaceVoxels)
+      {
+        smallest = std::min(smallest, squaredDistance(it.GetIndex(), candidate));
+      }
+      ASSERT_EQ(isInterface.count({ nearest[0], nearest[1], nearest[2] }), 1u)
+        << "image " << imageNumber << " at " << it.GetIndex() << ": " << nearest;
+      ASSERT_LE(squaredDistance(it.GetIndex(), nearest), smallest * (1.0 + RoundingSlack))
+        << "image " << imageNumber << " at " << it.GetIndex() << ": " << nearest;
+      fartherThanThreeMillimetres += smallest > 3.0 * 3.0;
+    }
+  }
+  EXPECT_GT(voxelsChecked, 20000u);
+  EXPECT_GT(fartherThanThreeMillimetres, 1000u);
 }
 
 /** After RegularizeAround(), the oracle answers as one made from its labels: its nearest-interface map is updated
