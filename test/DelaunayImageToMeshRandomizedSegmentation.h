@@ -25,6 +25,7 @@
 
 #include "DelaunayRefinementTypes.h"
 #include "itkImage.h"
+#include "itkMath.h"
 
 #include <algorithm>
 #include <array>
@@ -184,7 +185,11 @@ public:
     return thickPart;
   }
 
-  /** The component whose voxel holds `point` (the nearest voxel centre), or None for background. */
+  /** The component whose voxel holds `point` (the nearest voxel centre), or None for background. A point on a face
+   * between two voxels belongs to the one on the face's upper side, as ITK's nearest-neighbour interpolator rounds
+   * (Math::RoundHalfIntegerUp, which the filter's oracle uses too): std::lround takes the lower one at a negative
+   * half index, and a centroid exactly on the face between the grid's first voxel and the padding before it (Salt
+   * and pepper 2100177) made this count a one-voxel part the filter had found meshed as one without a tetrahedron. */
   std::size_t
   ComponentAt(const delaunay_refinement::Vector3 & point) const
   {
@@ -194,7 +199,8 @@ public:
     std::array<long, 3> index{};
     for (unsigned int axis = 0; axis < 3; ++axis)
     {
-      index[axis] = std::lround(continuousIndex[axis]) - m_Image->GetBufferedRegion().GetIndex()[axis];
+      index[axis] =
+        Math::RoundHalfIntegerUp<long>(continuousIndex[axis]) - m_Image->GetBufferedRegion().GetIndex()[axis];
     }
     return IsInside(index) ? m_ComponentOfVoxel[VoxelOf(index)] : None;
   }
