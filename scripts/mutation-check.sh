@@ -37,6 +37,8 @@
 #   origin-dropped                the oracle's label image loses the input's origin (zero instead)
 #   genus-halved                  the surface topology reports half the genus of each boundary component
 #   refinement-ignores-abort      the refinement goes on when its progress observer asks it to stop
+#   gather-crosses-block          the nearest-interface map's passes along y and z gather 16 lines even across the
+#                                 end of a block of lines (a z-slice, for the pass along y)
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -109,6 +111,12 @@
 #                                 torus at every delta and rho, the core report's table
 #   refinement-ignores-abort      5 tests: CoreLimits.ObserverCanAbort, Abort.DuringRefinementStopsWithinASecond, the
 #                                 filter's Progress tests (abort promptly, run again after an abort)
+# Run on 2026-11-28 at b5a40de (350 tests, 7 minutes on 2 cores):
+#   gather-crosses-block          7 tests: the three OracleDistance tests (the map against its definition, the
+#                                 closest surface point's bound, the local update), the two fingerprints,
+#                                 Determinism.TheNumberOfWorkUnitsDoesNotChangeTheMesh and a known-defect test; no
+#                                 randomized family. (EveryMutationApplies fails on every mutated tree, whose text is
+#                                 already changed: not counted.)
 # Rerun for two mutations after the relabelling at non-manifold places (issue #14, 4fa555f), with
 # DELAUNAY_MUTATION_CTEST_ARGS="-R KmeansTissues|HostileShapes|RandomizedImages|IndependentQuality|Fingerprint|
 # TwoSpheres|CoreFidelity": skip-interface-r3 caught by 13 tests (KmeansTissues.GuaranteesHold and
@@ -123,7 +131,8 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   relabel-any-angle no-regularization direction-dropped report-five-edges map-update-one-slice
   unmeshed-parts-unreported thick-parts-not-refined finer-sample-not-exported flat-threshold-1e-8 union-unchecked
   spacing-first-axis removed-components-uncounted distance-one-sided pinches-kept regularization-half-scale
-  split-accepts-any-boundary move-skips-rules origin-dropped genus-halved refinement-ignores-abort)
+  split-accepts-any-boundary move-skips-rules origin-dropped genus-halved refinement-ignores-abort
+  gather-crosses-block)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -331,6 +340,11 @@ apply_mutation() {
       ;;
     refinement-ignores-abort)
       mutate "$tree/src/DelaunayRefinementMesher.cxx" 'if (!m_Observer(progress))' 'if (!m_Observer(progress) && false)'
+      ;;
+    gather-crosses-block)
+      mutate "$tree/include/itkImageLabelOracle.hxx" \
+        'std::min({ LinesPerGather, endLine - line, stride - lowerOffset })' \
+        'std::min({ LinesPerGather, endLine - line })'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2
