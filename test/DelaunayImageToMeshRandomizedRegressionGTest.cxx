@@ -372,8 +372,9 @@ TEST(OracleDistance, ClosestSurfacePointIsAnInterfaceFaceCentreWithinTheProvenBo
 /** The feature transform against its definition: for the centre of every voxel of the oracle's label image (a
  * sample of them on the larger grids), the interface voxel it gives is an interface voxel (a face neighbour of
  * another label in that image) and is as near as the nearest one, found by trying them all. The grids are
- * anisotropic and rotated, wider than the lines the passes along y and z read together, and the larger ones share
- * their lines among two threads, so that both a gather's short last group and a thread's short last range occur.
+ * anisotropic and rotated, wider than the lines the passes along y and z read together, and the larger ones (over
+ * 2^17 voxels once padded) share their lines among two threads, so that both a gather's short last group and a
+ * thread's short last range occur.
  * The labels are a few balls and sparse speckle (which keeps the cropped label image about as large as the grid), so
  * that the nearest interface is often several voxels away. */
 TEST(OracleDistance, FeatureTransformGivesTheNearestInterfaceVoxelOfEveryVoxelCentre)
@@ -387,8 +388,8 @@ TEST(OracleDistance, FeatureTransformGivesTheNearestInterfaceVoxelOfEveryVoxelCe
   {
     const bool                              large = imageNumber % 4 == 3;
     const std::array<itk::SizeValueType, 3> size =
-      large ? std::array<itk::SizeValueType, 3>{ static_cast<itk::SizeValueType>(random.Integer(60, 80)),
-                                                 static_cast<itk::SizeValueType>(random.Integer(45, 60)),
+      large ? std::array<itk::SizeValueType, 3>{ static_cast<itk::SizeValueType>(random.Integer(70, 90)),
+                                                 static_cast<itk::SizeValueType>(random.Integer(50, 60)),
                                                  static_cast<itk::SizeValueType>(random.Integer(40, 50)) }
             : std::array<itk::SizeValueType, 3>{ static_cast<itk::SizeValueType>(random.Integer(1, 40)),
                                                  static_cast<itk::SizeValueType>(random.Integer(1, 14)),
