@@ -115,8 +115,8 @@
 #   gather-crosses-block          7 tests: the three OracleDistance tests (the map against its definition, the
 #                                 closest surface point's bound, the local update), the two fingerprints,
 #                                 Determinism.TheNumberOfWorkUnitsDoesNotChangeTheMesh and a known-defect test; no
-#                                 randomized family. (EveryMutationApplies fails on every mutated tree, whose text is
-#                                 already changed: not counted.)
+#                                 randomized family. (EveryMutationApplies failed too, as it does on every mutated
+#                                 tree, whose text is already changed: not counted, and no longer run by the check.)
 # Rerun for two mutations after the relabelling at non-manifold places (issue #14, 4fa555f), with
 # DELAUNAY_MUTATION_CTEST_ARGS="-R KmeansTissues|HostileShapes|RandomizedImages|IndependentQuality|Fingerprint|
 # TwoSpheres|CoreFidelity": skip-interface-r3 caught by 13 tests (KmeansTissues.GuaranteesHold and
@@ -399,9 +399,12 @@ for name in "${mutations[@]}"; do
   }
   echo "== Mutation $name: running the tests"
   status=0
-  # shellcheck disable=SC2086
   ctest_log=$work/$name.ctest.log
-  ctest --test-dir "$build" -j"$jobs" --timeout 1800 ${DELAUNAY_MUTATION_CTEST_ARGS:-} >"$ctest_log" 2>&1 || status=$?
+  # Without the dry-run test: on a mutated tree the mutation's text is already changed, so that test fails for every
+  # mutation, and a mutation no other test sees would be counted as caught.
+  # shellcheck disable=SC2086
+  ctest --test-dir "$build" -j"$jobs" --timeout 1800 -E '^DelaunayImageToMeshMutationCheck[.]' \
+    ${DELAUNAY_MUTATION_CTEST_ARGS:-} >"$ctest_log" 2>&1 || status=$?
   if [ "$status" -eq 0 ]; then
     echo "SURVIVED $name: every test passed" | tee -a "$summary"
     survivors=$((survivors + 1))
