@@ -340,6 +340,43 @@ TEST(SurfaceTopology, MinimumPlanarAngle)
   EXPECT_NEAR(ComputeSurfaceTopology(points, { { { 0, 1, 2 } } }).minimumPlanarAngle, 30.0, 1e-10);
 }
 
+/** The metric the tests hold R3's bound (boundary circumradius < δ) against, checked against circumradii known in
+ * closed form: a test of the guarantee is only as strong as this. */
+TEST(BoundaryCircumradius, LargestOfTrianglesKnownInClosedForm)
+{
+  TetrahedralMesh mesh;
+  // A 3-4-5 right triangle (circumradius half the hypotenuse, 2.5), in a plane oblique to every axis, and an
+  // equilateral triangle of side 2√3 (circumradius side / √3 = 2).
+  const Vector3 origin{ { 1.0, -2.0, 0.5 } };
+  const Vector3 u{ { 2.0 / 3.0, 2.0 / 3.0, 1.0 / 3.0 } };
+  const Vector3 v{ { -2.0 / 3.0, 1.0 / 3.0, 2.0 / 3.0 } };
+  const double  side = 2.0 * std::sqrt(3.0);
+  mesh.points = { origin,
+                  origin + 3.0 * u,
+                  origin + 4.0 * v,
+                  { { 0.0, 0.0, 0.0 } },
+                  { { side, 0.0, 0.0 } },
+                  { { 0.5 * side, 0.5 * std::sqrt(3.0) * side, 0.0 } } };
+  mesh.boundaryTriangles = { { { 3, 4, 5 } } };
+  EXPECT_NEAR(LargestBoundaryCircumradius(mesh), 2.0, 1e-12);
+  mesh.boundaryTriangles.push_back({ { 0, 1, 2 } });
+  EXPECT_NEAR(LargestBoundaryCircumradius(mesh), 2.5, 1e-12);
+  std::swap(mesh.boundaryTriangles[0], mesh.boundaryTriangles[1]);
+  EXPECT_NEAR(LargestBoundaryCircumradius(mesh), 2.5, 1e-12);
+
+  // Collinear corners have no circumcircle; coincident ones neither.
+  mesh.points.push_back(origin + 1.5 * u);
+  mesh.boundaryTriangles.push_back({ { 0, 1, 6 } });
+  EXPECT_EQ(LargestBoundaryCircumradius(mesh), Infinity);
+  mesh.boundaryTriangles.back() = { { 0, 0, 1 } };
+  EXPECT_EQ(LargestBoundaryCircumradius(mesh), Infinity);
+
+  mesh.boundaryTriangles.back() = { { 0, 1, 7 } };
+  EXPECT_THROW(LargestBoundaryCircumradius(mesh), std::invalid_argument);
+  mesh.boundaryTriangles.clear();
+  EXPECT_EQ(LargestBoundaryCircumradius(mesh), 0.0);
+}
+
 TEST(SurfaceTopology, OutOfRangeIndexThrows)
 {
   EXPECT_THROW(ComputeSurfaceTopology(RegularTetrahedronPoints(), { { { 0, 1, 7 } } }), std::invalid_argument);
