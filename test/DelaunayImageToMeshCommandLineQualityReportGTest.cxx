@@ -31,6 +31,8 @@
 #include <map>
 #include <sstream>
 #include <stdexcept>
+#include <string>
+#include <tuple>
 
 namespace delaunay_refinement
 {
@@ -496,6 +498,25 @@ TEST(QualityReport, TableNamesEveryMeasure)
     << table.str();
   EXPECT_NE(table.str().find("\n        2         6           3          8         0.5"), std::string::npos)
     << table.str();
+}
+
+/** The volume row's change is the mesh's volume relative to the segmentation's, with its sign: a mesh that lost
+ * volume must not read as one that gained it. The cube's volumes are equal, so they are set here. */
+TEST(QualityReport, VolumeChangeIsTheMeshRelativeToTheSegmentationWithItsSign)
+{
+  QualityReport report = CubeReport(1);
+  for (const auto & [meshVolume, segmentedVolume, row] :
+       { std::tuple<double, double, const char *>{ 0.9, 1.2, "0.9 / 1.2 mm^3 (-25.00%)\n" },
+         std::tuple<double, double, const char *>{ 1.5, 1.2, "1.5 / 1.2 mm^3 (+25.00%)\n" } })
+  {
+    report.meshVolume = meshVolume;
+    report.segmentedVolume = segmentedVolume;
+    std::ostringstream table;
+    PrintQualityReport(report, table);
+    EXPECT_NE(table.str().find(std::string("volume mesh / segmented     ") + row), std::string::npos)
+      << "missing '" << row << "' in\n"
+      << table.str();
+  }
 }
 
 TEST(QualityReport, PeakMemoryIsMeasured)
