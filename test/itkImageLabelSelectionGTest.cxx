@@ -160,3 +160,27 @@ TEST(ImageLabelSelection, ARegionMissingTheImageIsBackground)
     ASSERT_EQ(it.Get(), delaunay_refinement::BackgroundLabel);
   }
 }
+
+/** A floating-point value is rounded to the nearest label (README, "Inputs"), not truncated: label images resampled
+ * with a linear interpolator or stored as float carry values a little off their labels, on either side. The test
+ * above compares every voxel with LabelOf() itself, so this pins LabelOf() down. */
+TEST(ImageLabelSelection, AValueTakesTheNearestLabel)
+{
+  const itk::ImageLabelSelection everyLabel{ itk::ImageLabelMapping{} };
+  EXPECT_EQ(everyLabel.LabelOf(2.0), 2);
+  EXPECT_EQ(everyLabel.LabelOf(1.6), 2);
+  EXPECT_EQ(everyLabel.LabelOf(2.4), 2);
+  EXPECT_EQ(everyLabel.LabelOf(1.9999), 2);
+  EXPECT_EQ(everyLabel.LabelOf(-1.6), -2);
+  EXPECT_EQ(everyLabel.LabelOf(-2.4), -2);
+  EXPECT_EQ(everyLabel.LabelOf(0.4), delaunay_refinement::BackgroundLabel);
+  EXPECT_EQ(everyLabel.LabelOf(-0.4), delaunay_refinement::BackgroundLabel);
+  EXPECT_EQ(everyLabel.LabelOf(0.6), 1);
+
+  itk::ImageLabelMapping onlyThree;
+  onlyThree.selectedLabels = { 3 };
+  const itk::ImageLabelSelection selection(onlyThree);
+  EXPECT_EQ(selection.LabelOf(2.7), 3);
+  EXPECT_EQ(selection.LabelOf(3.3), 3);
+  EXPECT_EQ(selection.LabelOf(2.3), delaunay_refinement::BackgroundLabel);
+}
