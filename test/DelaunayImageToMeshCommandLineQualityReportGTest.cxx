@@ -519,6 +519,35 @@ TEST(QualityReport, VolumeChangeIsTheMeshRelativeToTheSegmentationWithItsSign)
   }
 }
 
+/** What the regularisation took from the tissues and gave to them, summed over the labels in the table and per label
+ * in the JSON, each under its own name: the two volumes differ here so that swapping them shows. */
+TEST(QualityReport, RegularizationRowKeepsTakenAndGivenApart)
+{
+  QualityReport report = CubeReport(2);
+  ASSERT_EQ(report.labels.size(), 2u);
+  report.labels[0].regularizedComponentsRemoved = 1;
+  report.labels[0].regularizedVolumeRemoved = 3.0;
+  report.labels[0].regularizedVolumeAdded = 0.5;
+  report.labels[1].regularizedVolumeRemoved = 1.0;
+  report.labels[1].regularizedVolumeAdded = 2.0;
+  std::ostringstream table;
+  PrintQualityReport(report, table);
+  EXPECT_NE(table.str().find("regularised at delta        1 component removed; 4.0 mm^3 taken from tissues, 2.5 mm^3 "
+                             "given to them\n"),
+            std::string::npos)
+    << table.str();
+
+  const nlohmann::ordered_json json = JsonOf(report);
+  for (const std::size_t label : { 0u, 1u })
+  {
+    const nlohmann::ordered_json & regularization = json["labels"][label]["regularization"];
+    EXPECT_EQ(regularization["components_removed"], report.labels[label].regularizedComponentsRemoved)
+      << regularization;
+    EXPECT_EQ(regularization["volume_removed_mm3"], report.labels[label].regularizedVolumeRemoved) << regularization;
+    EXPECT_EQ(regularization["volume_added_mm3"], report.labels[label].regularizedVolumeAdded) << regularization;
+  }
+}
+
 TEST(QualityReport, PeakMemoryIsMeasured)
 {
   EXPECT_GT(PeakResidentMemoryBytes(), 1024u * 1024u);
