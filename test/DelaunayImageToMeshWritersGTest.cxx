@@ -34,6 +34,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -482,6 +484,69 @@ TEST_F(DelaunayImageToMeshWriters, LegacyVtkReadBackByMeshio)
 TEST_F(DelaunayImageToMeshWriters, GmshReadBackByMeshio)
 {
   ExpectGmshGroups(m_Mesh, ExpectMeshioReadsBack({ "mesh.msh", "gmsh", "gmsh:physical", true }));
+}
+
+/** Gmsh's $Entities give each surface (a label pair) and volume (a label) the bounding box of its cells, which Gmsh
+ * uses to place and index them; meshio skips that section, so it is read here: every box is its cells' box, to the
+ * last digit (the points are written with 17 significant digits). */
+TEST_F(DelaunayImageToMeshWriters, GmshEntitiesHaveTheBoxesOfTheirCells)
+{
+  const std::string path = PathOf("entities.msh");
+  WriteTetrahedralMesh(m_Mesh, path);
+  std::ifstream file(path);
+  std::string   line;
+  while (std::getline(file, line) && line != "$Entities")
+  {}
+  ASSERT_TRUE(file) << "no $Entities section in " << path;
+  std::size_t points = 0, curves = 0, surfaces = 0, volumes = 0;
+  file >> points >> curves >> surfaces >> volumes;
+
+  // The boxes expected, surfaces first, each kind in increasing order of its label pair or label.
+  const auto boxOf = [this](const auto & cells, const auto & labels, const auto & label) {
+    constexpr double      infinity = std::numeric_limits<double>::infinity();
+    std::array<double, 6> box{ { infinity, infinity, infinity, -infinity, -infinity, -infinity } };
+    for (std::size_t cell = 0; cell < cells.size(); ++cell)
+    {
+      if (labels[cell] != label)
+      {
+        continue;
+      }
+      for (const uint32_t point : cells[cell])
+      {
+        for (std::size_t axis = 0; axis < 3; ++axis)
+        {
+          box[axis] = std::min(box[axis], m_Mesh.points[point][axis]);
+          box[3 + axis] = std::max(box[3 + axis], m_Mesh.points[point][axis]);
+        }
+      }
+    }
+    return box;
+  };
+  std::vector<std::array<double, 6>> expected;
+  for (const LabelPair & pair :
+       std::set<LabelPair>(m_Mesh.boundaryTriangleLabels.begin(), m_Mesh.boundaryTriangleLabels.end()))
+  {
+    expected.push_back(boxOf(m_Mesh.boundaryTriangles, m_Mesh.boundaryTriangleLabels, pair));
+  }
+  for (const Label label : std::set<Label>(m_Mesh.tetrahedronLabels.begin(), m_Mesh.tetrahedronLabels.end()))
+  {
+    expected.push_back(boxOf(m_Mesh.tetrahedra, m_Mesh.tetrahedronLabels, label));
+  }
+  ASSERT_EQ(points + curves, 0u);
+  ASSERT_EQ(surfaces + volumes, expected.size());
+  for (std::size_t entity = 0; entity < expected.size(); ++entity)
+  {
+    std::size_t           tag = 0;
+    std::array<double, 6> box{};
+    file >> tag;
+    for (double & coordinate : box)
+    {
+      file >> coordinate;
+    }
+    std::getline(file, line);
+    ASSERT_TRUE(file) << "entity " << entity;
+    EXPECT_EQ(box, expected[entity]) << "entity " << entity << " (tag " << tag << ")";
+  }
 }
 
 TEST_F(DelaunayImageToMeshWriters, MeditReadBackByMeshio)

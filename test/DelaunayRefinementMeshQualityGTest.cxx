@@ -337,7 +337,14 @@ TEST(SurfaceTopology, MinimumPlanarAngle)
 {
   // A right triangle with legs 1 and √3: angles 30°, 60°, 90°.
   const std::vector<Vector3> points{ { { 0.0, 0.0, 0.0 } }, { { std::sqrt(3.0), 0.0, 0.0 } }, { { 0.0, 1.0, 0.0 } } };
-  EXPECT_NEAR(ComputeSurfaceTopology(points, { { { 0, 1, 2 } } }).minimumPlanarAngle, 30.0, 1e-10);
+  // The 30° angle at each of the triangle's three corners in turn: every corner counts.
+  for (const std::array<uint32_t, 3> & triangle : { std::array<uint32_t, 3>{ { 0, 1, 2 } },
+                                                    std::array<uint32_t, 3>{ { 1, 2, 0 } },
+                                                    std::array<uint32_t, 3>{ { 2, 0, 1 } } })
+  {
+    EXPECT_NEAR(ComputeSurfaceTopology(points, { triangle }).minimumPlanarAngle, 30.0, 1e-10)
+      << triangle[0] << ' ' << triangle[1] << ' ' << triangle[2];
+  }
 }
 
 /** The metric the tests hold R3's bound (boundary circumradius < δ) against, checked against circumradii known in
