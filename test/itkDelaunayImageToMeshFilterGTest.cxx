@@ -832,7 +832,12 @@ TEST(FilterOutputs, MatchTheRefinedMesh)
     MeshType::CellPixelType label = 0;
     ASSERT_TRUE(interfaces->GetCellData(i, &label));
     ASSERT_EQ(label, refined.boundaryTriangleLabels[i][0]);
+    // The accessor ITK Python has (GetInterfaceLabels() is not wrapped): the inside, then the other side.
+    ASSERT_EQ(meshed.filter->GetInterfaceLabel(i, 0), refined.boundaryTriangleLabels[i][0]);
+    ASSERT_EQ(meshed.filter->GetInterfaceLabel(i, 1), refined.boundaryTriangleLabels[i][1]);
   }
+  EXPECT_THROW(meshed.filter->GetInterfaceLabel(refined.boundaryTriangles.size(), 0), itk::ExceptionObject);
+  EXPECT_THROW(meshed.filter->GetInterfaceLabel(0, 2), itk::ExceptionObject);
 }
 
 // The check that the guarantees rest on must see each kind of corruption.
