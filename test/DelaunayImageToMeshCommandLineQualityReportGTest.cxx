@@ -548,6 +548,32 @@ TEST(QualityReport, RegularizationRowKeepsTakenAndGivenApart)
   }
 }
 
+/** Two tetrahedra of one label touching at a corner: the label's boundary is pinched there, one non-manifold vertex
+ * and no non-manifold edge, in the report and in each label's JSON entry. */
+TEST(QualityReport, PinchedVertexIsCountedPerLabel)
+{
+  TetrahedralMesh mesh;
+  mesh.points = { { { 0.0, 0.0, 0.0 } },  { { 1.0, 0.0, 0.0 } },  { { 0.0, 1.0, 0.0 } }, { { 0.0, 0.0, 1.0 } },
+                  { { -1.0, 0.0, 0.0 } }, { { 0.0, -1.0, 0.0 } }, { { 0.0, 0.0, -1.0 } } };
+  for (std::array<uint32_t, 4> tetrahedron :
+       { std::array<uint32_t, 4>{ { 0, 1, 2, 3 } }, std::array<uint32_t, 4>{ { 0, 4, 5, 6 } } })
+  {
+    if (SignedVolume(mesh, tetrahedron) < 0.0)
+    {
+      std::swap(tetrahedron[2], tetrahedron[3]);
+    }
+    mesh.tetrahedra.push_back(tetrahedron);
+    mesh.tetrahedronLabels.push_back(1);
+  }
+  AddBoundaryTriangles(mesh);
+  const QualityReport report = ComputeQualityReport(mesh, CubeSegmentation(1));
+  EXPECT_EQ(report.nonManifoldVertices, 1u);
+  EXPECT_EQ(report.nonManifoldEdges, 0u);
+  const nlohmann::ordered_json json = JsonOf(report);
+  EXPECT_EQ(json["labels"][0]["non_manifold_vertices"], 1) << json;
+  EXPECT_EQ(json["labels"][0]["non_manifold_edges"], 0) << json;
+}
+
 TEST(QualityReport, PeakMemoryIsMeasured)
 {
   EXPECT_GT(PeakResidentMemoryBytes(), 1024u * 1024u);
