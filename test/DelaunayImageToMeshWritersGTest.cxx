@@ -522,18 +522,20 @@ TEST_F(DelaunayImageToMeshWriters, GmshEntitiesHaveTheBoxesOfTheirCells)
     }
     return box;
   };
+  const std::set<LabelPair> pairs(m_Mesh.boundaryTriangleLabels.begin(), m_Mesh.boundaryTriangleLabels.end());
+  const std::set<Label>     labels(m_Mesh.tetrahedronLabels.begin(), m_Mesh.tetrahedronLabels.end());
+  ASSERT_EQ(points + curves, 0u);
+  ASSERT_EQ(surfaces, pairs.size());
+  ASSERT_EQ(volumes, labels.size());
   std::vector<std::array<double, 6>> expected;
-  for (const LabelPair & pair :
-       std::set<LabelPair>(m_Mesh.boundaryTriangleLabels.begin(), m_Mesh.boundaryTriangleLabels.end()))
+  for (const LabelPair & pair : pairs)
   {
     expected.push_back(boxOf(m_Mesh.boundaryTriangles, m_Mesh.boundaryTriangleLabels, pair));
   }
-  for (const Label label : std::set<Label>(m_Mesh.tetrahedronLabels.begin(), m_Mesh.tetrahedronLabels.end()))
+  for (const Label label : labels)
   {
     expected.push_back(boxOf(m_Mesh.tetrahedra, m_Mesh.tetrahedronLabels, label));
   }
-  ASSERT_EQ(points + curves, 0u);
-  ASSERT_EQ(surfaces + volumes, expected.size());
   for (std::size_t entity = 0; entity < expected.size(); ++entity)
   {
     std::size_t           tag = 0;
