@@ -39,6 +39,28 @@
 #   refinement-ignores-abort      the refinement goes on when its progress observer asks it to stop
 #   gather-crosses-block          the nearest-interface map's passes along y and z gather 16 lines even across the
 #                                 end of a block of lines (a z-slice, for the pass along y)
+#   Bugs that leave the meshes as they are, in what surrounds them (added 2026-11-29):
+#   p95-is-median                 the two-sided distance's 95th percentile is its median
+#   sigma-unbounded               the dihedral bound sigma is accepted above its largest valid value
+#   msh-interface-tag-clash       Gmsh and Medit interface tags start at the largest tissue label, not after it
+#   interface-data-second-label   the filter's output 1 carries the second label of each triangle's pair, not the
+#                                 first
+#   boundary-circumradius-halved  the metric the tests hold R3's bound against reports half the boundary triangles'
+#                                 circumradius
+#   text-meshes-six-digits        .msh and .mesh files write 6 significant digits instead of 17
+#   report-radius-edge-halved     the quality report's radius-edge ratios are halved
+#   cli-radius-edge-ignored       the command line drops --radius-edge
+#   cli-merge-labels-ignored      the command line drops --merge-labels
+#   report-volume-change-inverted the report's relative volume change has the wrong sign
+#   voxelizer-direction-dropped   the mesh voxelizer's image loses the reference grid's direction
+#   lost-components-json-zero     the JSON report says no component of a lost label was lost
+#   label-values-truncated        non-integer label values are truncated instead of rounded to the nearest label
+#   cli-iso-ignored               the command line drops --iso (the gray image is meshed as labels)
+#   regularised-volumes-swapped   the report's volumes taken from and given to the tissues are swapped
+#   planar-angle-two-corners      the boundary's smallest planar angle looks at two corners of each triangle only
+#   gmsh-entity-box-upper-min     the upper corner of a Gmsh entity's bounding box is the smallest coordinate
+#   interface-label-sides-swapped the filter's GetInterfaceLabel(cell, side) answers for the other side
+#   json-non-manifold-vertices-zero the JSON report's per-label non-manifold vertices are always 0
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -117,6 +139,37 @@
 #                                 Determinism.TheNumberOfWorkUnitsDoesNotChangeTheMesh and a known-defect test; no
 #                                 randomized family. (EveryMutationApplies failed too, as it does on every mutated
 #                                 tree, whose text is already changed: not counted, and no longer run by the check.)
+# Run on 2026-11-29 (the whole suite, 349 tests, about 5 minutes a mutation on 2 cores), bugs that leave the meshes
+# as they are (the fingerprints cannot see them):
+#   p95-is-median                 4 tests: SummarizeDistances, TwoSidedDistance.EqualsItsPartsComputedOneByOne, the
+#                                 report's distance test, the command line's Inputs
+#   sigma-unbounded               3 tests: the core's, the filter's and the command line's bad-input tests
+#   msh-interface-tag-clash       2 tests: the Gmsh and Medit files read back by meshio
+#   interface-data-second-label   1 test: FilterOutputs.MatchTheRefinedMesh
+#   boundary-circumradius-halved  survived: every check of R3's bound read this metric, and nothing checked it; now
+#                                 caught by BoundaryCircumradius.LargestOfTrianglesKnownInClosedForm
+#   text-meshes-six-digits        4 tests: the Gmsh and Medit read-backs, the command line's .msh and .mesh outputs
+#   report-radius-edge-halved     8 tests: TetrahedronQuality, the report's table, the nearly-flat regressions, the
+#                                 command line's independent check
+#   cli-radius-edge-ignored       1 test: the command line's independent check (rho 1.2)
+#   cli-merge-labels-ignored      1 test: the command line's Config
+#   report-volume-change-inverted survived: the report tests' cube had equal volumes; now caught by
+#                                 QualityReport.VolumeChangeIsTheMeshRelativeToTheSegmentationWithItsSign
+#   voxelizer-direction-dropped   3 tests: the voxelizer's oblique ball, the brain-mask and k-means tests
+#   lost-components-json-zero     2 tests: the report's lost label, the command line's LostTissue
+#   label-values-truncated        1 test: the command line's Inputs (a float image); now also
+#                                 ImageLabelSelection.AValueTakesTheNearestLabel (the selection's own test compared
+#                                 every voxel with LabelOf() itself)
+#   cli-iso-ignored               1 test: the command line's Inputs
+#   regularised-volumes-swapped   survived: no report test had a regularisation; now caught by
+#                                 QualityReport.RegularizationRowKeepsTakenAndGivenApart
+#   planar-angle-two-corners      1 test: the command line's independent check; now also SurfaceTopology.MinimumPlanarAngle
+#                                 (the 30-degree corner at each corner in turn)
+#   gmsh-entity-box-upper-min     survived: meshio skips $Entities; now caught by
+#                                 DelaunayImageToMeshWriters.GmshEntitiesHaveTheBoxesOfTheirCells
+#   interface-label-sides-swapped survived: no test called GetInterfaceLabel(); now caught by FilterOutputs
+#   json-non-manifold-vertices-zero survived: the report's non-manifold test opened edges only; now caught by
+#                                 QualityReport.PinchedVertexIsCountedPerLabel
 # Rerun for two mutations after the relabelling at non-manifold places (issue #14, 4fa555f), with
 # DELAUNAY_MUTATION_CTEST_ARGS="-R KmeansTissues|HostileShapes|RandomizedImages|IndependentQuality|Fingerprint|
 # TwoSpheres|CoreFidelity": skip-interface-r3 caught by 13 tests (KmeansTissues.GuaranteesHold and
@@ -132,7 +185,11 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   unmeshed-parts-unreported thick-parts-not-refined finer-sample-not-exported flat-threshold-1e-8 union-unchecked
   spacing-first-axis removed-components-uncounted distance-one-sided pinches-kept regularization-half-scale
   split-accepts-any-boundary move-skips-rules origin-dropped genus-halved refinement-ignores-abort
-  gather-crosses-block)
+  gather-crosses-block p95-is-median sigma-unbounded msh-interface-tag-clash interface-data-second-label
+  boundary-circumradius-halved text-meshes-six-digits report-radius-edge-halved cli-radius-edge-ignored
+  cli-merge-labels-ignored report-volume-change-inverted voxelizer-direction-dropped lost-components-json-zero
+  label-values-truncated cli-iso-ignored regularised-volumes-swapped planar-angle-two-corners
+  gmsh-entity-box-upper-min interface-label-sides-swapped json-non-manifold-vertices-zero)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -345,6 +402,84 @@ apply_mutation() {
       mutate "$tree/include/itkImageLabelOracle.hxx" \
         'std::min({ LinesPerGather, endLine - line, stride - lowerOffset })' \
         'std::min({ LinesPerGather, endLine - line })'
+      ;;
+    p95-is-median)
+      mutate "$tree/src/DelaunayRefinementSurfaceDistance.cxx" '(95 * count + 99) / 100 - 1' '(50 * count + 99) / 100 - 1'
+      ;;
+    sigma-unbounded)
+      mutate "$tree/src/DelaunayRefinementParameters.cxx" \
+        'sigma >= 0.0 && sigma <= Limits::LargestMinimumDihedralAngle' 'sigma >= 0.0'
+      ;;
+    msh-interface-tag-clash)
+      mutate "$tree/src/DelaunayImageToMeshWriters.cxx" \
+        'nextTag = std::max(largestLabel, BackgroundLabel) + 1;' 'nextTag = std::max(largestLabel, BackgroundLabel);'
+      ;;
+    interface-data-second-label)
+      mutate "$tree/include/itkDelaunayImageToMeshFilter.hxx" \
+        'static_cast<CellPixelType>(mesh.boundaryTriangleLabels[i][0])' \
+        'static_cast<CellPixelType>(mesh.boundaryTriangleLabels[i][1])'
+      ;;
+    boundary-circumradius-halved)
+      mutate "$tree/src/DelaunayRefinementMeshQuality.cxx" \
+        'Distance(a, b) * Distance(b, c) * Distance(c, a) / (2.0 * twiceArea)' \
+        'Distance(a, b) * Distance(b, c) * Distance(c, a) / (4.0 * twiceArea)'
+      ;;
+    text-meshes-six-digits)
+      mutate "$tree/src/DelaunayImageToMeshWriters.cxx" \
+        'file.precision(std::numeric_limits<double>::max_digits10);' 'file.precision(6);'
+      ;;
+    report-radius-edge-halved)
+      mutate "$tree/src/DelaunayRefinementMeshQuality.cxx" \
+        'Circumradius(corners) / ShortestEdge(corners)' '0.5 * Circumradius(corners) / ShortestEdge(corners)'
+      ;;
+    cli-radius-edge-ignored)
+      mutate "$tree/examples/DelaunayImageToMesh.cxx" 'filter->SetRadiusEdgeBound(options.radiusEdgeBound);' ''
+      ;;
+    cli-merge-labels-ignored)
+      mutate "$tree/examples/DelaunayImageToMesh.cxx" 'filter->SetMergeLabels(options.mergeLabels);' ''
+      ;;
+    report-volume-change-inverted)
+      mutate "$tree/src/DelaunayImageToMeshQualityReport.cxx" '100.0 * (part - whole) / whole' '100.0 * (whole - part) / whole'
+      ;;
+    voxelizer-direction-dropped)
+      mutate "$tree/include/itkTetrahedralMeshVoxelizer.hxx" 'image->SetDirection(referenceGrid.GetDirection());' ''
+      ;;
+    lost-components-json-zero)
+      mutate "$tree/src/DelaunayImageToMeshQualityReport.cxx" 'json["lost_components"] = quality.lostComponents;' \
+        'json["lost_components"] = 0;'
+      ;;
+    label-values-truncated)
+      mutate "$tree/include/itkImageLabelSelection.h" 'std::lround(std::clamp(value, -largestLabel, largestLabel))' \
+        'std::trunc(std::clamp(value, -largestLabel, largestLabel))'
+      ;;
+    cli-iso-ignored)
+      mutate "$tree/examples/DelaunayImageToMesh.cxx" 'filter->SetIsoValue(*options.isoValue);' ''
+      ;;
+    regularised-volumes-swapped)
+      mutate "$tree/src/DelaunayImageToMeshQualityReport.cxx" \
+        'Fixed(volumeRemoved, 1) + " mm^3 taken from tissues, " + Fixed(volumeAdded, 1)' \
+        'Fixed(volumeAdded, 1) + " mm^3 taken from tissues, " + Fixed(volumeRemoved, 1)'
+      ;;
+    planar-angle-two-corners)
+      mutate "$tree/src/DelaunayRefinementSurfaceTopology.cxx" \
+        'for (int corner = 0; corner < 3; ++corner)
+    {
+      const Vector3 & apex' 'for (int corner = 0; corner < 2; ++corner)
+    {
+      const Vector3 & apex'
+      ;;
+    gmsh-entity-box-upper-min)
+      mutate "$tree/src/DelaunayImageToMeshWriters.cxx" \
+        'box.upper[axis] = std::max(box.upper[axis], points[pointIndex][axis]);' \
+        'box.upper[axis] = std::min(box.upper[axis], points[pointIndex][axis]);'
+      ;;
+    interface-label-sides-swapped)
+      mutate "$tree/include/itkDelaunayImageToMeshFilter.hxx" 'return m_InterfaceLabels[cellId][side];' \
+        'return m_InterfaceLabels[cellId][1 - side];'
+      ;;
+    json-non-manifold-vertices-zero)
+      mutate "$tree/src/DelaunayImageToMeshQualityReport.cxx" \
+        '{ "non_manifold_vertices", boundary.nonManifoldVertices },' '{ "non_manifold_vertices", 0 },'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2
