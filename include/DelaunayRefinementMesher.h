@@ -57,7 +57,7 @@ struct RefinementStatistics
   std::size_t insertionsE3{ 0 };
   /** Free (and, for E1/E3, non-box-edge box) vertices removed. */
   std::size_t deletedVertices{ 0 };
-  /** Queue entries skipped because their tetrahedron no longer existed. */
+  /** Queue entries of tetrahedra that no longer existed: skipped when popped, or removed from the queue. */
   std::size_t staleQueueEntries{ 0 };
   /** R2 circumcentres outside the box whose box exit point fell on an edge or a vertex of the hull triangulation
    * instead of inside one of its facets, so that no box facet could be chosen (measure zero; expected 0). */

@@ -241,6 +241,12 @@ private:
     std::optional<std::size_t> verticesBeforeSliverRemoval;
     while (!m_Queue.Empty() || RequeueSliversNoLongerCaps())
     {
+      m_Statistics.staleQueueEntries +=
+        m_Queue.RemoveDeadWhenDue([this](const QueueEntry & entry) { return IsAlive(entry); });
+      if (m_Queue.Empty())
+      {
+        continue;
+      }
       QueueLevel       level = QueueLevel::Surface;
       const QueueEntry entry = m_Queue.Pop(level);
       if (level == QueueLevel::Sliver && !verticesBeforeSliverRemoval)

@@ -1,0 +1,178 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+
+// The refinement's work list (src/DelaunayRefinementQueue.h, docs/algorithm.md, "Order of work"): the live entries
+// come out in the same order whether or not the dead ones are removed on the way, since that order makes the mesh.
+// The entries stand for no tetrahedron (a null cell); the stamp names each, and a set of dead stamps plays the
+// triangulation's part.
+
+#include "DelaunayRefinementQueue.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <random>
+#include <unordered_set>
+#include <vector>
+
+namespace dr = delaunay_refinement;
+using dr::detail::QueueEntry;
+using dr::detail::QueueEntryOrder;
+using dr::detail::QueueLevel;
+using dr::detail::RefinementQueue;
+
+namespace
+{
+
+/** A stamped entry with a size from a few values and three of its vertex ids from a few, so that many entries tie
+ * on their size and some on their first vertex ids as well (co-spherical cells sharing corners). */
+QueueEntry
+RandomEntry(std::mt19937 & random, uint64_t stamp)
+{
+  std::uniform_int_distribution<int>      size(1, 40);
+  std::uniform_int_distribution<uint32_t> vertex(0, 30);
+  QueueEntry                              entry{};
+  entry.squaredRadius = 0.25 * size(random);
+  entry.stamp = stamp;
+  for (std::size_t corner = 0; corner < 3; ++corner)
+  {
+    entry.vertexIds[corner] = vertex(random);
+  }
+  // The last corner is the entry's own: two entries with the same corners would be the same tetrahedron, which
+  // the refinement never has twice alive, and whose copies no order could tell apart.
+  entry.vertexIds[3] = 100 + static_cast<uint32_t>(stamp);
+  std::sort(entry.vertexIds.begin(), entry.vertexIds.end());
+  return entry;
+}
+
+/** Pops `queue` until it is empty or a live entry comes out; the live entry's stamp and level, or none. */
+bool
+PopLive(RefinementQueue & queue, const std::unordered_set<uint64_t> & dead, uint64_t & stamp, QueueLevel & level)
+{
+  while (!queue.Empty())
+  {
+    const QueueEntry entry = queue.Pop(level);
+    if (dead.count(entry.stamp) == 0)
+    {
+      stamp = entry.stamp;
+      return true;
+    }
+  }
+  return false;
+}
+
+} // namespace
+
+TEST(RefinementQueue, RemovingDeadEntriesKeepsTheOrderOfTheLiveOnes)
+{
+  std::mt19937                       random(20261129);
+  std::uniform_int_distribution<int> levelOf(0, 2);
+  std::uniform_int_distribution<int> pushesPerStep(0, 6);
+  std::bernoulli_distribution        dies(0.6);
+  RefinementQueue                    removing;
+  RefinementQueue                    keeping;
+  std::unordered_set<uint64_t>       dead;
+  std::vector<uint64_t>              waiting;
+  uint64_t                           nextStamp = 1;
+  std::size_t                        removed = 0;
+  std::size_t                        popped = 0;
+  const auto isAlive = [&dead](const QueueEntry & entry) { return dead.count(entry.stamp) == 0; };
+  for (int step = 0; step < 60000; ++step)
+  {
+    // As an insertion does: new entries, and some of those waiting die.
+    for (int push = pushesPerStep(random); push > 0; --push)
+    {
+      const QueueEntry entry = RandomEntry(random, nextStamp++);
+      const auto       level = static_cast<QueueLevel>(levelOf(random));
+      removing.Push(level, entry);
+      keeping.Push(level, entry);
+      waiting.push_back(entry.stamp);
+    }
+    if (!waiting.empty() && dies(random))
+    {
+      std::uniform_int_distribution<std::size_t> which(0, waiting.size() - 1);
+      const std::size_t                          index = which(random);
+      dead.insert(waiting[index]);
+      waiting[index] = waiting.back();
+      waiting.pop_back();
+    }
+    removed += removing.RemoveDeadWhenDue(isAlive);
+    uint64_t   fromRemoving = 0;
+    uint64_t   fromKeeping = 0;
+    QueueLevel levelRemoving = QueueLevel::Surface;
+    QueueLevel levelKeeping = QueueLevel::Surface;
+    const bool liveRemoving = PopLive(removing, dead, fromRemoving, levelRemoving);
+    const bool liveKeeping = PopLive(keeping, dead, fromKeeping, levelKeeping);
+    ASSERT_EQ(liveRemoving, liveKeeping) << "step " << step;
+    if (liveRemoving)
+    {
+      ASSERT_EQ(fromRemoving, fromKeeping) << "step " << step;
+      ASSERT_EQ(levelRemoving, levelKeeping) << "step " << step;
+      ++popped;
+      // A popped entry is done with; it dies, as its tetrahedron is refined.
+      dead.insert(fromRemoving);
+      waiting.erase(std::find(waiting.begin(), waiting.end(), fromRemoving));
+    }
+  }
+  // The removal took place, and often: otherwise the comparison above says nothing about it.
+  EXPECT_GT(removed, 10000U);
+  EXPECT_GT(popped, 10000U);
+  EXPECT_LT(removing.Size(), keeping.Size());
+  // Then the rest of both, in the same order.
+  uint64_t   fromRemoving = 0;
+  uint64_t   fromKeeping = 0;
+  QueueLevel levelRemoving = QueueLevel::Surface;
+  QueueLevel levelKeeping = QueueLevel::Surface;
+  while (PopLive(keeping, dead, fromKeeping, levelKeeping))
+  {
+    ASSERT_TRUE(PopLive(removing, dead, fromRemoving, levelRemoving));
+    ASSERT_EQ(fromRemoving, fromKeeping);
+  }
+  EXPECT_FALSE(PopLive(removing, dead, fromRemoving, levelRemoving));
+}
+
+TEST(RefinementQueue, PopsLevelByLevelLargestFirstTiesByVertexIds)
+{
+  RefinementQueue queue;
+  const auto      entry = [](double squaredRadius, uint64_t stamp, std::array<uint32_t, 4> ids) {
+    QueueEntry made{};
+    made.squaredRadius = squaredRadius;
+    made.stamp = stamp;
+    made.vertexIds = ids;
+    return made;
+  };
+  queue.Push(QueueLevel::Sliver, entry(9.0, 1, { 0, 1, 2, 3 }));
+  queue.Push(QueueLevel::Quality, entry(1.0, 2, { 0, 1, 2, 3 }));
+  queue.Push(QueueLevel::Quality, entry(4.0, 3, { 2, 3, 4, 5 }));
+  queue.Push(QueueLevel::Quality, entry(4.0, 4, { 1, 3, 4, 5 }));
+  queue.Push(QueueLevel::Surface, entry(0.5, 5, { 7, 8, 9, 10 }));
+  const std::vector<std::pair<uint64_t, QueueLevel>> expected{ { 5, QueueLevel::Surface },
+                                                               { 4, QueueLevel::Quality },
+                                                               { 3, QueueLevel::Quality },
+                                                               { 2, QueueLevel::Quality },
+                                                               { 1, QueueLevel::Sliver } };
+  for (const auto & [stamp, level] : expected)
+  {
+    ASSERT_FALSE(queue.Empty());
+    QueueLevel poppedLevel = QueueLevel::Surface;
+    EXPECT_EQ(queue.Pop(poppedLevel).stamp, stamp);
+    EXPECT_EQ(poppedLevel, level);
+  }
+  EXPECT_TRUE(queue.Empty());
+}
