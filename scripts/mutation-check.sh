@@ -61,6 +61,9 @@
 #   gmsh-entity-box-upper-min     the upper corner of a Gmsh entity's bounding box is the smallest coordinate
 #   interface-label-sides-swapped the filter's GetInterfaceLabel(cell, side) answers for the other side
 #   json-non-manifold-vertices-zero the JSON report's per-label non-manifold vertices are always 0
+#   Bugs in the refinement queue's removal of dead entries (added 2026-11-29, second stop):
+#   queue-heap-not-rebuilt        the removal drops the dead entries but does not rebuild the heap over the others
+#   queue-rebuild-skips-last-parent the rebuild starts one entry too high: the last entry with children is not sifted
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -170,6 +173,18 @@
 #   interface-label-sides-swapped survived: no test called GetInterfaceLabel(); now caught by FilterOutputs
 #   json-non-manifold-vertices-zero survived: the report's non-manifold test opened edges only; now caught by
 #                                 QualityReport.PinchedVertexIsCountedPerLabel
+# Run later on 2026-11-29 at e6e463a (the whole suite, 357 tests, about 5 minutes a mutation on 2 cores), the queue's
+# removal of dead entries:
+#   queue-heap-not-rebuilt        19 tests: RefinementQueue.RemovingDeadEntriesKeepsTheOrderOfTheLiveOnes, the three
+#                                 fingerprints, eight determinism tests (with the order broken, the pops follow the
+#                                 order the cells were created in, which CGAL's removals let depend on memory), the
+#                                 k-means test, the command-line Inputs and Config tests, a lattice test, two
+#                                 known-defect tests, the vertex cap's and the abort's rerun tests
+#   queue-rebuild-skips-last-parent 3 tests: the analytic-shape and k-means fingerprints,
+#                                 Determinism.TwoFiltersInTwoThreadsGiveTheSequentialMeshes. The queue's unit test
+#                                 missed it: its removals left the entries near the end where they were, in heap
+#                                 order. FourAryHeap.RemovingEntriesLeavesAHeapOfTheOthers (heaps of 0-399 entries,
+#                                 any share removed, popped to the end) catches it now (run on the test alone)
 # Rerun for two mutations after the relabelling at non-manifold places (issue #14, 4fa555f), with
 # DELAUNAY_MUTATION_CTEST_ARGS="-R KmeansTissues|HostileShapes|RandomizedImages|IndependentQuality|Fingerprint|
 # TwoSpheres|CoreFidelity": skip-interface-r3 caught by 13 tests (KmeansTissues.GuaranteesHold and
@@ -189,7 +204,8 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   boundary-circumradius-halved text-meshes-six-digits report-radius-edge-halved cli-radius-edge-ignored
   cli-merge-labels-ignored report-volume-change-inverted voxelizer-direction-dropped lost-components-json-zero
   label-values-truncated cli-iso-ignored regularised-volumes-swapped planar-angle-two-corners
-  gmsh-entity-box-upper-min interface-label-sides-swapped json-non-manifold-vertices-zero)
+  gmsh-entity-box-upper-min interface-label-sides-swapped json-non-manifold-vertices-zero queue-heap-not-rebuilt
+  queue-rebuild-skips-last-parent)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -480,6 +496,14 @@ apply_mutation() {
     json-non-manifold-vertices-zero)
       mutate "$tree/src/DelaunayImageToMeshQualityReport.cxx" \
         '{ "non_manifold_vertices", boundary.nonManifoldVertices },' '{ "non_manifold_vertices", 0 },'
+      ;;
+    queue-heap-not-rebuilt)
+      mutate "$tree/src/DelaunayRefinementQueue.h" \
+        'SiftDownFrom(position, QueueEntry(m_Entries[position]));' 'static_cast<void>(position);'
+      ;;
+    queue-rebuild-skips-last-parent)
+      mutate "$tree/src/DelaunayRefinementQueue.h" \
+        '(m_Entries.size() - 2) / Arity + 1 : 0' '(m_Entries.size() - 2) / Arity : 0'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2

@@ -32,6 +32,7 @@
 #include <vector>
 
 namespace dr = delaunay_refinement;
+using dr::detail::FourAryHeap;
 using dr::detail::QueueEntry;
 using dr::detail::QueueEntryOrder;
 using dr::detail::QueueLevel;
@@ -95,7 +96,7 @@ TEST(RefinementQueue, RemovingDeadEntriesKeepsTheOrderOfTheLiveOnes)
   const auto isAlive = [&dead](const QueueEntry & entry) { return dead.count(entry.stamp) == 0; };
   for (int step = 0; step < 60000; ++step)
   {
-    // As an insertion does: new entries, and some of those waiting die.
+    // As an insertion does: new entries, and some of those waiting die (most entries do, as in the refinement).
     for (int push = pushesPerStep(random); push > 0; --push)
     {
       const QueueEntry entry = RandomEntry(random, nextStamp++);
@@ -104,13 +105,16 @@ TEST(RefinementQueue, RemovingDeadEntriesKeepsTheOrderOfTheLiveOnes)
       keeping.Push(level, entry);
       waiting.push_back(entry.stamp);
     }
-    if (!waiting.empty() && dies(random))
+    for (int death = 0; death < 3; ++death)
     {
-      std::uniform_int_distribution<std::size_t> which(0, waiting.size() - 1);
-      const std::size_t                          index = which(random);
-      dead.insert(waiting[index]);
-      waiting[index] = waiting.back();
-      waiting.pop_back();
+      if (!waiting.empty() && dies(random))
+      {
+        std::uniform_int_distribution<std::size_t> which(0, waiting.size() - 1);
+        const std::size_t                          index = which(random);
+        dead.insert(waiting[index]);
+        waiting[index] = waiting.back();
+        waiting.pop_back();
+      }
     }
     removed += removing.RemoveDeadWhenDue(isAlive);
     uint64_t   fromRemoving = 0;
@@ -145,6 +149,45 @@ TEST(RefinementQueue, RemovingDeadEntriesKeepsTheOrderOfTheLiveOnes)
     ASSERT_EQ(fromRemoving, fromKeeping);
   }
   EXPECT_FALSE(PopLive(removing, dead, fromRemoving, levelRemoving));
+}
+
+TEST(FourAryHeap, RemovingEntriesLeavesAHeapOfTheOthers)
+{
+  // Small heaps, each emptied after one removal: the entries the removal moves are then often those whose order
+  // the rebuild must restore, down to the last entry with children.
+  std::mt19937                           random(20261129);
+  std::uniform_real_distribution<double> share(0.0, 1.0);
+  for (uint64_t size = 0; size < 400; ++size)
+  {
+    FourAryHeap           heap;
+    std::vector<uint64_t> kept;
+    for (uint64_t stamp = 1; stamp <= size; ++stamp)
+    {
+      heap.Push(RandomEntry(random, stamp));
+    }
+    const double                 deadShare = share(random);
+    std::unordered_set<uint64_t> dead;
+    for (uint64_t stamp = 1; stamp <= size; ++stamp)
+    {
+      if (share(random) < deadShare)
+      {
+        dead.insert(stamp);
+      }
+    }
+    EXPECT_EQ(heap.RemoveDead([&dead](const QueueEntry & entry) { return dead.count(entry.stamp) == 0; }), dead.size());
+    ASSERT_EQ(heap.Size(), size - dead.size());
+    QueueEntry previous{};
+    for (std::size_t popped = 0; !heap.Empty(); ++popped)
+    {
+      const QueueEntry entry = heap.Pop();
+      EXPECT_EQ(dead.count(entry.stamp), 0U);
+      if (popped > 0)
+      {
+        ASSERT_FALSE(QueueEntryOrder()(previous, entry)) << "heap of " << size << ", entry " << popped;
+      }
+      previous = entry;
+    }
+  }
 }
 
 TEST(RefinementQueue, PopsLevelByLevelLargestFirstTiesByVertexIds)
