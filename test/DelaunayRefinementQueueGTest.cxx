@@ -159,8 +159,7 @@ TEST(FourAryHeap, RemovingEntriesLeavesAHeapOfTheOthers)
   std::uniform_real_distribution<double> share(0.0, 1.0);
   for (uint64_t size = 0; size < 400; ++size)
   {
-    FourAryHeap           heap;
-    std::vector<uint64_t> kept;
+    FourAryHeap heap;
     for (uint64_t stamp = 1; stamp <= size; ++stamp)
     {
       heap.Push(RandomEntry(random, stamp));
