@@ -373,13 +373,33 @@ private:
     return true;
   }
 
-  /** How many non-manifold (vertex, label) pairs the move removes; below 1 when it is not allowed, and below
-   * `needed` when it removes fewer than that (the count is then not finished: the caller rejects the move either
-   * way, and the corners' link tests are most of the relabelling's time). The move is undone before returning.
-   */
-  int
-  GainOf(const Move & move, int needed) const
+  /** A move's corners with their non-manifold labels now, the labels it moves cells between, and the bound on its
+   * gain that these give (GainOf can remove no pair of a label the move leaves alone). */
+  struct MoveBound
   {
+    struct Corner
+    {
+      VertexHandle               vertex;
+      const std::vector<Label> * nonManifoldLabels;
+    };
+    /** The corners non-manifold now first: a move that does not mend them is rejected after the fewest link tests. */
+    std::vector<Corner> corners;
+    std::vector<Label>  changing;
+    /** The non-manifold pairs at the corners, and those of the labels the move leaves alone. */
+    int before{ 0 };
+    int unchanging{ 0 };
+
+    int
+    Bound() const
+    {
+      return before - unchanging;
+    }
+  };
+
+  MoveBound
+  BoundOf(const Move & move) const
+  {
+    MoveBound                 bound;
     std::vector<VertexHandle> cornerHandles;
     for (const CellHandle cell : move.cells)
     {
@@ -390,50 +410,50 @@ private:
     }
     std::sort(cornerHandles.begin(), cornerHandles.end());
     cornerHandles.erase(std::unique(cornerHandles.begin(), cornerHandles.end()), cornerHandles.end());
-    // Each corner's non-manifold labels, looked up once: the counts below ask for them three times.
-    struct Corner
-    {
-      VertexHandle               vertex;
-      const std::vector<Label> * nonManifoldLabels;
-    };
-    std::vector<Corner> corners;
-    corners.reserve(cornerHandles.size());
-    int before = 0;
+    // Each corner's non-manifold labels, looked up once: the counts ask for them three times.
+    bound.corners.reserve(cornerHandles.size());
     for (const VertexHandle vertex : cornerHandles)
     {
-      corners.push_back({ vertex, &CurrentNonManifoldLabelsAt(vertex) });
-      before += static_cast<int>(corners.back().nonManifoldLabels->size());
+      bound.corners.push_back({ vertex, &CurrentNonManifoldLabelsAt(vertex) });
+      bound.before += static_cast<int>(bound.corners.back().nonManifoldLabels->size());
     }
-    if (before < needed)
-    {
-      return before;
-    }
-    // The corners non-manifold now first: a move that does not mend them is rejected after the fewest link tests.
-    std::stable_partition(
-      corners.begin(), corners.end(), [](const Corner & corner) { return !corner.nonManifoldLabels->empty(); });
+    std::stable_partition(bound.corners.begin(), bound.corners.end(), [](const MoveBound::Corner & corner) {
+      return !corner.nonManifoldLabels->empty();
+    });
     // Only the links of the labels the move takes cells from or gives them are tested again at its corners: the
     // others stay as they are (VertexLinks::NonManifoldLabelsAmong).
-    std::vector<Label> changing{ move.label };
+    bound.changing.push_back(move.label);
     for (const CellHandle cell : move.cells)
     {
-      changing.push_back(cell->cache.label);
+      bound.changing.push_back(cell->cache.label);
     }
-    std::sort(changing.begin(), changing.end());
-    changing.erase(std::unique(changing.begin(), changing.end()), changing.end());
+    std::sort(bound.changing.begin(), bound.changing.end());
+    bound.changing.erase(std::unique(bound.changing.begin(), bound.changing.end()), bound.changing.end());
     // The non-manifold pairs of the labels the move leaves alone stay whatever it does: it gains at most the others,
-    // and one that cannot gain `needed` is rejected before its checks and link tests (k-means tissues at 4 mm: 13 %
-    // of the moves that passed the checks, 10 % of the link tests).
-    int unchanging = 0;
-    for (const Corner & corner : corners)
+    // and one that cannot gain what it needs is rejected before its checks and link tests (k-means tissues at 4 mm:
+    // 13 % of the moves that passed the checks, 10 % of the link tests).
+    for (const MoveBound::Corner & corner : bound.corners)
     {
       const std::vector<Label> & labels = *corner.nonManifoldLabels;
-      unchanging += static_cast<int>(std::count_if(labels.begin(), labels.end(), [&changing](Label label) {
-        return !std::binary_search(changing.begin(), changing.end(), label);
+      bound.unchanging += static_cast<int>(std::count_if(labels.begin(), labels.end(), [&bound](Label label) {
+        return !std::binary_search(bound.changing.begin(), bound.changing.end(), label);
       }));
     }
-    if (before - unchanging < needed)
+    return bound;
+  }
+
+  /** How many non-manifold (vertex, label) pairs the move removes (its corners and labels are `bound`'s); below 1
+   * when it is not allowed, and below `needed` when it removes fewer than that (the count is then not finished: the
+   * caller rejects the move either way, and the corners' link tests are most of the relabelling's time). The move
+   * is undone before returning. */
+  int
+  GainOf(const Move & move, const MoveBound & bound, int needed) const
+  {
+    const int before = bound.before;
+    const int unchanging = bound.unchanging;
+    if (bound.Bound() < needed)
     {
-      return before - unchanging;
+      return bound.Bound();
     }
     // The cells whose face neighbours change: the move's and their neighbours.
     std::vector<CellHandle> near = move.cells;
@@ -460,10 +480,10 @@ private:
     {
       const Triangulation & triangulation = m_State.GetTriangulation();
       int                   after = unchanging;
-      for (std::size_t index = 0; index < corners.size() && before - after >= needed; ++index)
+      for (std::size_t index = 0; index < bound.corners.size() && before - after >= needed; ++index)
       {
-        const VertexHandle vertex = corners[index].vertex;
-        after += m_Links.NonManifoldLabelsAmong(triangulation, vertex, StarOf(vertex), changing);
+        const VertexHandle vertex = bound.corners[index].vertex;
+        after += m_Links.NonManifoldLabelsAmong(triangulation, vertex, StarOf(vertex), bound.changing);
       }
       gain = before - after;
     }
@@ -783,17 +803,40 @@ private:
       return MeshState::SortedVertexIds(a) < MeshState::SortedVertexIds(b);
     });
     const std::vector<Move> moves = MovesAround(vertex, star);
-    int                     bestGain = 0;
-    const Move *            best = nullptr;
-    for (const Move & move : moves)
+    // The best move removes the most pairs, then has the fewest tetrahedra, then comes first. The moves are weighed
+    // from the largest bound on their gain down, so that a good move found early lets the others stop at their bound
+    // or early in their link tests (GainOf); the answer is the one a scan in their order would give.
+    std::vector<MoveBound>   bounds;
+    std::vector<std::size_t> order(moves.size());
+    bounds.reserve(moves.size());
+    for (std::size_t index = 0; index < moves.size(); ++index)
     {
+      bounds.push_back(BoundOf(moves[index]));
+      order[index] = index;
+    }
+    std::stable_sort(order.begin(), order.end(), [&bounds](std::size_t a, std::size_t b) {
+      return bounds[a].Bound() > bounds[b].Bound();
+    });
+    int          bestGain = 0;
+    const Move * best = nullptr;
+    std::size_t  bestIndex = 0;
+    for (const std::size_t index : order)
+    {
+      const Move & move = moves[index];
+      if (bounds[index].Bound() < bestGain || bounds[index].Bound() < 1)
+      {
+        break; // neither this move nor one after it can even tie
+      }
       // The gain that makes this move the best so far.
-      const int needed = best && move.cells.size() < best->cells.size() ? std::max(bestGain, 1) : bestGain + 1;
-      const int gain = GainOf(move, needed);
-      if (gain > bestGain || (gain > 0 && gain == bestGain && move.cells.size() < best->cells.size()))
+      const bool winsTies = best && (move.cells.size() < best->cells.size() ||
+                                     (move.cells.size() == best->cells.size() && index < bestIndex));
+      const int  needed = best == nullptr ? 1 : (winsTies ? std::max(bestGain, 1) : bestGain + 1);
+      const int  gain = GainOf(move, bounds[index], needed);
+      if (gain >= needed)
       {
         bestGain = gain;
         best = &move;
+        bestIndex = index;
       }
     }
     if (!best)
