@@ -1,0 +1,115 @@
+"""Issue #15's bar: sliver removal at sigma against the same run without it, image by image and delta by delta.
+
+    delaunay-bench --images sphere-64,brain-mask --ours-only --runs 1 --deltas 4 --write-images IMAGES
+    /usr/bin/python3 bench/sliver_bar.py PROGRAM IMAGES IMAGE:DELTA ... [--sigma S] [--rounds N]
+
+PROGRAM is delaunay-image-to-mesh; each IMAGE:DELTA names IMAGES/IMAGE.nrrd and a delta in mm. For each, the script
+meshes the image with the defaults and --min-dihedral S (15 unless told) and with --min-dihedral 0, in N paired rounds
+(5 unless told) whose order alternates, and takes the whole filter's time from the report (time_seconds.mesh). It
+checks the mesh with sliver removal itself, from the .vtu, with the command-line tests' independent checker (no
+library code): its smallest dihedral angle, largest radius-edge ratio, smallest boundary planar angle, and the
+non-manifold edges and vertices of every tissue's boundary and the union's. Topology and fidelity against the run
+without sliver removal come from the two reports (one more run of each, with --distance): every tissue's boundary
+components and genus, and the two-sided distance to the marching-cubes surface.
+
+Prints Markdown: one row per image and delta.
+"""
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "test"))
+# The independent checker of the command-line tests.
+import DelaunayImageToMeshCommandLineIndependentQuality as independent  # noqa: E402
+
+
+def mesh(program, image, delta, sigma, keep_mesh=None, distance=False):
+    """The report of one run, and the mesh written to keep_mesh when given."""
+    with tempfile.TemporaryDirectory() as directory:
+        output = keep_mesh or os.path.join(directory, "mesh.vtu")
+        report = os.path.join(directory, "report.json")
+        command = [program, image, output, "-d", repr(delta), "--min-dihedral", repr(sigma), "-q", "--report", report]
+        if distance:
+            command.append("--distance")
+        subprocess.run(command, check=True, capture_output=True)
+        with open(report, encoding="utf-8") as file:
+            return json.load(file)
+
+
+def independent_quality(path):
+    """Smallest dihedral angle, largest radius-edge ratio, smallest boundary planar angle, and the non-manifold
+    edges and vertices over every tissue's boundary and the union's, computed from the file."""
+    points, tetrahedra, labels = independent.read_tetrahedra(path)
+    corners = points[tetrahedra]
+    radii, _ = independent.circumradii(corners)
+    ratios = radii / independent.shortest_edges(corners)
+    planar = independent.smallest_planar_angles(points, independent.boundary_triangles(tetrahedra, labels))
+    edges = vertices = 0
+    for boundary in independent.label_boundaries(tetrahedra, labels).values():
+        bad_edges, bad_vertices = independent.surface_defects(boundary)
+        edges += bad_edges
+        vertices += bad_vertices
+    return {"min_dihedral": float(independent.smallest_dihedral_angles(corners).min()),
+            "max_ratio": float(ratios.max()), "min_planar": float(planar.min()), "edges": edges, "vertices": vertices}
+
+
+def topology(report):
+    """Every tissue's boundary components and genus, by label."""
+    return {label["label"]: (label["boundary_components"], label["boundary_genus"]) for label in report["labels"]}
+
+
+def measure(program, image, delta, sigma, rounds):
+    with tempfile.TemporaryDirectory() as directory:
+        path = os.path.join(directory, "sigma.vtu")
+        with_removal = mesh(program, image, delta, sigma, keep_mesh=path, distance=True)
+        row = {"with": with_removal, "independent": independent_quality(path)}
+    row["without"] = mesh(program, image, delta, 0.0, distance=True)
+    seconds = {sigma: [], 0.0: []}
+    for round_index in range(rounds):
+        for run_sigma in ((sigma, 0.0) if round_index % 2 == 0 else (0.0, sigma)):
+            seconds[run_sigma].append(mesh(program, image, delta, run_sigma)["time_seconds"]["mesh"])
+    ratios = [a / b for a, b in zip(seconds[sigma], seconds[0.0])]
+    row.update(with_s=statistics.median(seconds[sigma]), without_s=statistics.median(seconds[0.0]),
+               ratio=statistics.median(ratios), ratio_range=(min(ratios), max(ratios)))
+    return row
+
+
+def table_row(name, delta, row):
+    with_removal, without = row["with"], row["without"]
+    checked = row["independent"]
+    low, high = row["ratio_range"]
+    same_topology = "same" if topology(with_removal) == topology(without) else "**differs**"
+    distance, distance_without = with_removal["distance_to_marching_cubes"], without["distance_to_marching_cubes"]
+    return (f"| {name}, {delta:g} mm | {with_removal['tetrahedra']:,} / {without['tetrahedra']:,} "
+            f"({with_removal['tetrahedra'] / without['tetrahedra']:.3f}) | {row['with_s']:.3f} / {row['without_s']:.3f}, "
+            f"**{row['ratio']:.2f}** ({low:.2f}-{high:.2f}) | {checked['min_dihedral']:.2f}° / {checked['max_ratio']:.4f} / "
+            f"{checked['min_planar']:.2f}° | {checked['edges']} / {checked['vertices']} | {same_topology} | "
+            f"{distance['mean_mm']:.3f} / {distance['percentile95_mm']:.3f} against "
+            f"{distance_without['mean_mm']:.3f} / {distance_without['percentile95_mm']:.3f} |")
+
+
+def main(program, image_directory, cases, sigma, rounds):
+    print(f"| image, δ | tetrahedra σ = {sigma:g}° / σ = 0 (ratio) | time s σ = {sigma:g}° / σ = 0, paired ratio (range) | "
+          "min dihedral / max radius-edge / min boundary angle (independent) | non-manifold edges / vertices "
+          "(independent) | tissues' components and genus against σ = 0 | distance mean / p95 mm against σ = 0 |")
+    print("|" + "---|" * 7)
+    for case in cases:
+        name, delta = case.split(":")
+        row = measure(program, os.path.join(image_directory, name + ".nrrd"), float(delta), sigma, rounds)
+        print(table_row(name, float(delta), row), flush=True)
+
+
+if __name__ == "__main__":
+    arguments = sys.argv[1:]
+    options = {"--rounds": 5.0, "--sigma": 15.0}
+    for option in options:
+        if option in arguments:
+            position = arguments.index(option)
+            options[option] = float(arguments[position + 1])
+            del arguments[position:position + 2]
+    if len(arguments) < 3:
+        sys.exit(__doc__)
+    main(arguments[0], arguments[1], arguments[2:], options["--sigma"], int(options["--rounds"]))
