@@ -14,29 +14,20 @@ components and genus, and the two-sided distance to the marching-cubes surface.
 
 Prints Markdown: one row per image and delta.
 """
-import json
 import os
 import statistics
-import subprocess
 import sys
 import tempfile
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "test"))
 # The independent checker of the command-line tests.
 import DelaunayImageToMeshCommandLineIndependentQuality as independent  # noqa: E402
+# Issue #14's bar script: its runs of the command-line program and its count of non-manifold places.
+from topology_bar import independent_defects, mesh  # noqa: E402
 
 
-def mesh(program, image, delta, sigma, keep_mesh=None, distance=False):
-    """The report of one run, and the mesh written to keep_mesh when given."""
-    with tempfile.TemporaryDirectory() as directory:
-        output = keep_mesh or os.path.join(directory, "mesh.vtu")
-        report = os.path.join(directory, "report.json")
-        command = [program, image, output, "-d", repr(delta), "--min-dihedral", repr(sigma), "-q", "--report", report]
-        if distance:
-            command.append("--distance")
-        subprocess.run(command, check=True, capture_output=True)
-        with open(report, encoding="utf-8") as file:
-            return json.load(file)
+def sigma_option(sigma):
+    return ["--min-dihedral", repr(sigma)]
 
 
 def independent_quality(path):
@@ -47,11 +38,7 @@ def independent_quality(path):
     radii, _ = independent.circumradii(corners)
     ratios = radii / independent.shortest_edges(corners)
     planar = independent.smallest_planar_angles(points, independent.boundary_triangles(tetrahedra, labels))
-    edges = vertices = 0
-    for boundary in independent.label_boundaries(tetrahedra, labels).values():
-        bad_edges, bad_vertices = independent.surface_defects(boundary)
-        edges += bad_edges
-        vertices += bad_vertices
+    edges, vertices = independent_defects(path)
     return {"min_dihedral": float(independent.smallest_dihedral_angles(corners).min()),
             "max_ratio": float(ratios.max()), "min_planar": float(planar.min()), "edges": edges, "vertices": vertices}
 
@@ -64,13 +51,13 @@ def topology(report):
 def measure(program, image, delta, sigma, rounds):
     with tempfile.TemporaryDirectory() as directory:
         path = os.path.join(directory, "sigma.vtu")
-        with_removal = mesh(program, image, delta, sigma, keep_mesh=path, distance=True)
+        with_removal = mesh(program, image, delta, sigma_option(sigma), keep_mesh=path, distance=True)
         row = {"with": with_removal, "independent": independent_quality(path)}
-    row["without"] = mesh(program, image, delta, 0.0, distance=True)
+    row["without"] = mesh(program, image, delta, sigma_option(0.0), distance=True)
     seconds = {sigma: [], 0.0: []}
     for round_index in range(rounds):
         for run_sigma in ((sigma, 0.0) if round_index % 2 == 0 else (0.0, sigma)):
-            seconds[run_sigma].append(mesh(program, image, delta, run_sigma)["time_seconds"]["mesh"])
+            seconds[run_sigma].append(mesh(program, image, delta, sigma_option(run_sigma))["time_seconds"]["mesh"])
     ratios = [a / b for a, b in zip(seconds[sigma], seconds[0.0])]
     row.update(with_s=statistics.median(seconds[sigma]), without_s=statistics.median(seconds[0.0]),
                ratio=statistics.median(ratios), ratio_range=(min(ratios), max(ratios)))
