@@ -66,7 +66,8 @@
 #   queue-rebuild-skips-last-parent the rebuild starts one entry too high: the last entry with children is not sifted
 #   Bugs in the relabelling's best-first weighing of a vertex's moves (added 2026-11-29, third stop), each of which
 #   changes which move wins a tie, so that the answer is no longer the scan's:
-#   relabel-tie-to-later          of two moves with the same gain and size, the later in the scan's order wins
+#   relabel-tie-to-first-weighed of two moves with the same gain and size, the one weighed first wins, not the first
+#                                 in the scan's order
 #   relabel-bound-stops-at-ties   the weighing stops at a bound equal to the best gain, before a smaller move could tie
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
@@ -189,7 +190,7 @@
 #                                 missed it: its removals left the entries near the end where they were, in heap
 #                                 order. FourAryHeap.RemovingEntriesLeavesAHeapOfTheOthers (heaps of 0-399 entries,
 #                                 any share removed, popped to the end) catches it now (run on the test alone)
-#   relabel-tie-to-later          2 tests: the brain-mask and k-means fingerprints (run with
+#   relabel-tie-to-first-weighed 1 test: the k-means fingerprint (run with
 #                                 DELAUNAY_MUTATION_CTEST_ARGS="-R KmeansTissues|HostileShapes|Randomized|
 #                                 IndependentQuality|Fingerprint|TwoSpheres|CoreFidelity|Determinism|Topology|Baseline",
 #                                 116 tests)
@@ -215,7 +216,7 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   cli-merge-labels-ignored report-volume-change-inverted voxelizer-direction-dropped lost-components-json-zero
   label-values-truncated cli-iso-ignored regularised-volumes-swapped planar-angle-two-corners
   gmsh-entity-box-upper-min interface-label-sides-swapped json-non-manifold-vertices-zero queue-heap-not-rebuilt
-  queue-rebuild-skips-last-parent relabel-tie-to-later relabel-bound-stops-at-ties)
+  queue-rebuild-skips-last-parent relabel-tie-to-first-weighed relabel-bound-stops-at-ties)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -515,15 +516,15 @@ apply_mutation() {
       mutate "$tree/src/DelaunayRefinementQueue.h" \
         '(m_Entries.size() - 2) / Arity + 1 : 0' '(m_Entries.size() - 2) / Arity : 0'
       ;;
-    relabel-tie-to-later)
+    relabel-tie-to-first-weighed)
       mutate "$tree/src/DelaunayRefinementTopologyRelabel.h" \
-        '(move.cells.size() == best->cells.size() && index < bestIndex)' \
-        '(move.cells.size() == best->cells.size() && index > bestIndex)'
+        'std::make_pair(moves[index].cells.size(), index) <' \
+        'std::make_pair(moves[index].cells.size(), *bestIndex) <'
       ;;
     relabel-bound-stops-at-ties)
       mutate "$tree/src/DelaunayRefinementTopologyRelabel.h" \
-        'if (bounds[index].Bound() < bestGain || bounds[index].Bound() < 1)' \
-        'if (bounds[index].Bound() <= bestGain || bounds[index].Bound() < 1)'
+        'if (bounds[index].Bound() < std::max(bestGain, 1))' \
+        'if (bounds[index].Bound() < std::max(bestGain + 1, 1))'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2

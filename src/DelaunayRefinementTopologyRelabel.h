@@ -43,6 +43,7 @@
 #include <cmath>
 #include <iterator>
 #include <limits>
+#include <optional>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -817,38 +818,36 @@ private:
     std::stable_sort(order.begin(), order.end(), [&bounds](std::size_t a, std::size_t b) {
       return bounds[a].Bound() > bounds[b].Bound();
     });
-    int          bestGain = 0;
-    const Move * best = nullptr;
-    std::size_t  bestIndex = 0;
+    int                        bestGain = 0;
+    std::optional<std::size_t> bestIndex;
     for (const std::size_t index : order)
     {
-      const Move & move = moves[index];
-      if (bounds[index].Bound() < bestGain || bounds[index].Bound() < 1)
+      if (bounds[index].Bound() < std::max(bestGain, 1))
       {
         break; // neither this move nor one after it can even tie
       }
-      // The gain that makes this move the best so far.
-      const bool winsTies = best && (move.cells.size() < best->cells.size() ||
-                                     (move.cells.size() == best->cells.size() && index < bestIndex));
-      const int  needed = best == nullptr ? 1 : (winsTies ? std::max(bestGain, 1) : bestGain + 1);
-      const int  gain = GainOf(move, bounds[index], needed);
+      // A tie on the gain goes to the fewest tetrahedra, then to the first in the scan's order.
+      const bool winsTies = bestIndex && std::make_pair(moves[index].cells.size(), index) <
+                                           std::make_pair(moves[*bestIndex].cells.size(), *bestIndex);
+      const int needed = winsTies ? bestGain : bestGain + 1;
+      const int gain = GainOf(moves[index], bounds[index], needed);
       if (gain >= needed)
       {
         bestGain = gain;
-        best = &move;
         bestIndex = index;
       }
     }
-    if (!best)
+    if (!bestIndex)
     {
       return false;
     }
-    MoveMade made{ {}, best->label, {} };
-    for (const CellHandle cell : best->cells)
+    const Move & best = moves[*bestIndex];
+    MoveMade     made{ {}, best.label, {} };
+    for (const CellHandle cell : best.cells)
     {
       made.cells.push_back({ cell, cell->cache.stamp, cell->cache.label });
     }
-    Apply(made.cells, best->label, touched);
+    Apply(made.cells, best.label, touched);
     for (const CellState & state : made.cells)
     {
       MarkManifoldCheckDue(state.cell);
