@@ -58,9 +58,11 @@ struct LabelRegularizationReport
  * `radius`, and every voxel that its own label's opening removed takes the label of the nearest voxel (physical
  * distance between centres) that survived its own label's opening. Voxels are cubes, distances are measured between
  * centres: the erosion keeps a voxel whose nearest voxel of another label is farther than radius + h/2 (h the
- * smallest spacing), the dilation gives back the label's voxels within radius + h of a survivor. Opening the
- * background closes the tissues, so one rule removes a tissue's parts thinner than about 2 × radius (bridges,
- * sheets, speckle) and fills its slits and gaps thinner than that, for every label alike and with no label favoured.
+ * smallest spacing), the dilation gives back the label's voxels within radius + h of a survivor, those farther than
+ * radius + h/2 from every survivor only when no face neighbour of their label is lost (no fin is left at the root of
+ * a removed part). Opening the background closes the tissues, so one rule removes a tissue's parts thinner than
+ * about 2 × radius (bridges, sheets, speckle) and fills its slits and gaps thinner than that, for every label alike
+ * and with no label favoured.
  * Every part of a label that holds a ball of radius + h/2 around a voxel centre stays. A voxel no label survives
  * near (every label thin everywhere) keeps its label, except where the erosion's reach (radius + h/2) is at least
  * the grid's length along an axis: there every tissue is within the reach of the background outside the grid, so

@@ -69,6 +69,10 @@
 #   relabel-tie-to-first-weighed of two moves with the same gain and size, the one weighed first wins, not the first
 #                                 in the scan's order
 #   relabel-bound-stops-at-ties   the weighing stops at a bound equal to the best gain, before a smaller move could tie
+#   Bugs in the opening's rule against fins at the root of a removed part (added 2026-11-29, fourth stop):
+#   opening-keeps-root-fins       a voxel only the dilation's last half voxel gives back stays beside a lost voxel
+#   opening-drops-beside-lost     every voxel beside a lost voxel of its label is lost, not only those the last half
+#                                 voxel gives back
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -216,7 +220,8 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   cli-merge-labels-ignored report-volume-change-inverted voxelizer-direction-dropped lost-components-json-zero
   label-values-truncated cli-iso-ignored regularised-volumes-swapped planar-angle-two-corners
   gmsh-entity-box-upper-min interface-label-sides-swapped json-non-manifold-vertices-zero queue-heap-not-rebuilt
-  queue-rebuild-skips-last-parent relabel-tie-to-first-weighed relabel-bound-stops-at-ties)
+  queue-rebuild-skips-last-parent relabel-tie-to-first-weighed relabel-bound-stops-at-ties opening-keeps-root-fins
+  opening-drops-beside-lost)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -525,6 +530,16 @@ apply_mutation() {
       mutate "$tree/src/DelaunayRefinementTopologyRelabel.h" \
         'if (bounds[index].Bound() < std::max(bestGain, 1))' \
         'if (bounds[index].Bound() < std::max(bestGain + 1, 1))'
+      ;;
+    opening-keeps-root-fins)
+      mutate "$tree/src/DelaunayRefinementLabelRegularization.cxx" \
+        'lost.Add(fin);' \
+        ''
+      ;;
+    opening-drops-beside-lost)
+      mutate "$tree/src/DelaunayRefinementLabelRegularization.cxx" \
+        'fin.Keep(onlyByTheLastHalfVoxel, false);' \
+        ''
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2

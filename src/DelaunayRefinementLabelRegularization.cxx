@@ -520,6 +520,16 @@ public:
     }
   }
 
+  /** this = this | other. */
+  void
+  Add(const BoxBits & other)
+  {
+    for (std::size_t word = 0; word < m_Words.size(); ++word)
+    {
+      m_Words[word] |= other.m_Words[word];
+    }
+  }
+
   /** Every voxel of the box not set, and only those. */
   void
   Invert()
@@ -1010,9 +1020,9 @@ public:
     // d away is about d - h/2 from that label's voxels. Half the smallest spacing makes the erosion see that, so
     // that a one-voxel part (d = h) goes at a radius of h/2 already, as the continuous opening would; and the
     // dilation gives back every voxel whose cube reaches a survivor's ball (r + h/2 + h/2), so that a convex part
-    // wider than the ball keeps its voxels, corners included. (The same ball for both steps, the textbook opening,
-    // leaves no one-voxel fin at the root of a sheet it removes, but takes the staircase's corners off every convex
-    // part: balls of radius 5 and 7 mm at δ = 2 mm lost 2-4 % of their volume; bench/README.md, "At ac99b9d".)
+    // wider than the ball keeps its voxels, corners included, except beside what the opening removes (OpenLabel).
+    // (The same ball for both steps, the textbook opening, takes the staircase's corners off every convex part:
+    // balls of radius 5 and 7 mm at δ = 2 mm lost 2-4 % of their volume; bench/README.md, "At ac99b9d".)
     , m_Reach(radius > 0.0 ? radius + 0.5 * std::min({ spacing[0], spacing[1], spacing[2] }) : 0.0)
     , m_DilationReach(radius > 0.0 ? radius + std::min({ spacing[0], spacing[1], spacing[2] }) : 0.0)
     , m_NumberOfVoxels(size[0] * size[1] * size[2])
@@ -1268,8 +1278,20 @@ private:
     BoxBits & notKept = voxels;
     notKept.Keep(eroded, true);
     notKept.Invert();
+    const BoxBits survivorsAtTheEdge = OuterBoundary(notKept);
+    const BoxBits givenBack = DilateByBall(survivorsAtTheEdge, dilationBall);
+    // The dilation reaches half a voxel farther than the erosion to keep convex parts' voxel corners. Beside a part
+    // the opening removes (a sheet thinner than 2r on a block), that half voxel would give back a strip one voxel
+    // wide along its root, a fin thinner than δ that the refinement then samples: a voxel only that half voxel gives
+    // back stays only when no face neighbour of its label is lost.
+    BoxBits onlyByTheLastHalfVoxel = eroded;
+    onlyByTheLastHalfVoxel.Keep(givenBack, false);
+    onlyByTheLastHalfVoxel.Keep(DilateByBall(survivorsAtTheEdge, erosionBall), true);
     BoxBits & lost = eroded;
-    lost.Keep(DilateByBall(OuterBoundary(notKept), dilationBall), true);
+    lost.Keep(givenBack, true);
+    BoxBits fin = OuterBoundary(lost);
+    fin.Keep(onlyByTheLastHalfVoxel, false);
+    lost.Add(fin);
     return std::move(lost);
   }
 

@@ -1324,11 +1324,13 @@ TEST(RandomizedRegression, APointOnAFaceAtANegativeHalfIndexIsInTheUpperVoxel)
  * the cap in 16.8 s with the budget switched off. It is chaotic: of six values of δ within 0.3 % of 8004179's, three
  * ended and three ran away. Now a pass of the sliver removal may leave at most 10 times the vertices it started from
  * plus 1,000 (docs/algorithm.md, "When sliver removal does not end"): both cases must stop there with the exception
- * that names σ and ρ, far below the cap. */
+ * that names σ and ρ, far below the cap. Since the opening leaves no fin at the root of a removed part (issue #14,
+ * 2026-11-29), 8025878's labels differ and its sliver removal ends, as do 8011618's and 8019154's: 8004179, which
+ * still runs away (as 8020056, 8021071, 8021246, 8023578 and 8024542 do), takes its place. */
 TEST(RandomizedRegression, SliverRemovalThatDoesNotEndStopsAtItsBudget)
 {
   for (const auto & [seed, sigma] : { std::pair<uint64_t, const char *>{ 8007944, "sigma = 14." },
-                                      std::pair<uint64_t, const char *>{ 8025878, "sigma = 19.9" } })
+                                      std::pair<uint64_t, const char *>{ 8004179, "sigma = 18.9" } })
   {
     SCOPED_TRACE("Mixed " + std::to_string(seed));
     const RandomCase randomCase = MakeRecordedCase(Family::Mixed, seed);

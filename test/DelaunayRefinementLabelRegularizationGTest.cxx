@@ -18,7 +18,8 @@
 
 // RegularizeLabels against its definition, computed by brute force on small random grids: a voxel survives its
 // label's erosion when every voxel of another label (the grid's outside is background) is farther than
-// r + h/2, survives the dilation when a survivor of the erosion of its own label is within r + h, and every voxel
+// r + h/2, survives the dilation when a survivor of the erosion of its own label is within r + h/2, or within r + h
+// and no face neighbour of its label is lost (neither a survivor nor within r + h of one), and every voxel
 // that did not survive takes the label of a nearest surviving voxel of the grid. The grids are wider than a
 // machine word along x and anisotropic, and their labels touch the grid's faces.
 
@@ -182,11 +183,8 @@ AllowedLabels(const Grid & grid, double radius)
       }
     }
   }
-  const auto survives = [&](long i, long j, long k) {
-    if (keptByErosion[paddedIndex(i, j, k)])
-    {
-      return true;
-    }
+  // Whether a survivor of the erosion of the voxel's own label is within `distance` of it.
+  const auto nearASurvivor = [&](long i, long j, long k, double distance) {
     const Label label = grid.At(i, j, k);
     for (long dk = -window[2]; dk <= window[2]; ++dk)
     {
@@ -196,7 +194,7 @@ AllowedLabels(const Grid & grid, double radius)
         {
           if (inPadded(i + di, j + dj, k + dk) && grid.At(i + di, j + dj, k + dk) == label &&
               keptByErosion[paddedIndex(i + di, j + dj, k + dk)] &&
-              grid.SquaredDistance(di, dj, dk) <= dilationReach * dilationReach)
+              grid.SquaredDistance(di, dj, dk) <= distance * distance)
           {
             return true;
           }
@@ -204,6 +202,31 @@ AllowedLabels(const Grid & grid, double radius)
       }
     }
     return false;
+  };
+  // Lost by the plain opening: neither a survivor nor within the dilation's reach of one.
+  const auto lostByTheOpening = [&](long i, long j, long k) {
+    return !keptByErosion[paddedIndex(i, j, k)] && !nearASurvivor(i, j, k, dilationReach);
+  };
+  const auto survives = [&](long i, long j, long k) {
+    if (keptByErosion[paddedIndex(i, j, k)] || nearASurvivor(i, j, k, reach))
+    {
+      return true;
+    }
+    if (!nearASurvivor(i, j, k, dilationReach))
+    {
+      return false;
+    }
+    // Given back by the dilation's last half voxel only: not beside a voxel of its label that the opening loses.
+    const Label label = grid.At(i, j, k);
+    for (const auto & [di, dj, dk] :
+         { std::array<long, 3>{ -1, 0, 0 }, { 1, 0, 0 }, { 0, -1, 0 }, { 0, 1, 0 }, { 0, 0, -1 }, { 0, 0, 1 } })
+    {
+      if (grid.At(i + di, j + dj, k + dk) == label && lostByTheOpening(i + di, j + dj, k + dk))
+      {
+        return false;
+      }
+    }
+    return true;
   };
   std::vector<std::array<long, 3>> survivors;
   std::vector<std::array<long, 3>> removed;
