@@ -200,6 +200,10 @@
 #                                 116 tests)
 #   relabel-bound-stops-at-ties   1 test: the k-means fingerprint (same run): such ties are rare, the k-means
 #                                 tissues' thousands of relabellings meet one
+#   opening-keeps-root-fins       6 tests (DELAUNAY_MUTATION_CTEST_ARGS="-R Regulariz|HostileShapes|Fingerprint", 98
+#                                 tests): three of the regularisation's brute-force grids, the hostile thin sheet's
+#                                 1.3 x bar at 4 x the spacing, the brain-mask and k-means fingerprints
+#   opening-drops-beside-lost     6 tests (same run): four brute-force grids, the brain-mask and k-means fingerprints
 # Rerun for two mutations after the relabelling at non-manifold places (issue #14, 4fa555f), with
 # DELAUNAY_MUTATION_CTEST_ARGS="-R KmeansTissues|HostileShapes|RandomizedImages|IndependentQuality|Fingerprint|
 # TwoSpheres|CoreFidelity": skip-interface-r3 caught by 13 tests (KmeansTissues.GuaranteesHold and
