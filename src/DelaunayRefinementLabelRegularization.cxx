@@ -1280,15 +1280,19 @@ private:
     notKept.Invert();
     const BoxBits survivorsAtTheEdge = OuterBoundary(notKept);
     const BoxBits givenBack = DilateByBall(survivorsAtTheEdge, dilationBall);
+    BoxBits       onlyByTheLastHalfVoxel = eroded;
+    onlyByTheLastHalfVoxel.Keep(givenBack, false);
+    BoxBits & lost = eroded;
+    lost.Keep(givenBack, true);
+    if (!lost.Any())
+    {
+      return std::move(lost);
+    }
     // The dilation reaches half a voxel farther than the erosion to keep convex parts' voxel corners. Beside a part
     // the opening removes (a sheet thinner than 2r on a block), that half voxel would give back a strip one voxel
     // wide along its root, a fin thinner than δ that the refinement then samples: a voxel only that half voxel gives
-    // back stays only when no face neighbour of its label is lost.
-    BoxBits onlyByTheLastHalfVoxel = eroded;
-    onlyByTheLastHalfVoxel.Keep(givenBack, false);
+    // back stays only when no face neighbour of its label is lost (none is when nothing is lost, above).
     onlyByTheLastHalfVoxel.Keep(DilateByBall(survivorsAtTheEdge, erosionBall), true);
-    BoxBits & lost = eroded;
-    lost.Keep(givenBack, true);
     BoxBits fin = OuterBoundary(lost);
     fin.Keep(onlyByTheLastHalfVoxel, false);
     lost.Add(fin);
