@@ -1681,18 +1681,17 @@ TEST(RandomizedStability, FirstMeshesOfEveryFamilyChangeByAFewPerCentAtMost)
 }
 
 /** Sliver removal (σ = 10°, the default) makes more choices that a tie decides (which candidate point, which corner
- * moves), and on small random meshes the last bits of δ move more than the bound above: the first two meshes of every
- * family over a thousand tetrahedra, measured when σ = 10° became the default, moved by 1.5-4.7 % but for ManyLabels
- * 5000016, 16.8 % (1,176 tetrahedra), and this case, 8.8 % (1,512 tetrahedra); 6.5 % and 5.2 % with σ = 0. Since R4′
- * tries a corner move first where R3 would split its point again, they move by 1.5-4.7 % but for ManyLabels 5000016,
- * 7.7 %, and this case, still 8.8 %. The amount itself follows the construction's last bits: computing every
- * circumcentre from sorted corners (tried, not kept) gave 8.7 % and 8.1 % for the two, and then 12.8 % and 11.8 % for
- * ManyLabels 5000016 and Blobs 1000004 once the sorted corners were oriented. Since R2 splits from 3δ instead of 2δ,
- * this case moves by 13.8 % (1,225 tetrahedra) and BorderTouching 6000018, pinned here before, by 4.6 %; of the 27
- * meshes over a thousand tetrahedra with the default σ among each family's first 40 seeds, 22 move by 1.2-7.9 %,
- * SaltAndPepper 2000025 by 8.0 %, SheetsAndLines 3000019 by 9.2 %, Mixed 8000052 by 16.7 % and Blobs 1000030 (ρ = 1,
- * 74,429 tetrahedra) by 31 % (at least 27 % with 2δ). On the real images the defaults move by under 2 % (brain mask at
- * 2 mm 1.0 %, atlas phantom at 1 mm 1.7 %, k-means tissues at 4 mm 0.4 %). */
+ * moves), and on small random meshes the last bits of δ move more than the bound above. Measured on the first two
+ * meshes of every family over a thousand tetrahedra when σ = 10° became the default: 1.5-4.7 %, but for this case,
+ * ManyLabels 5000016, 16.8 % (1,176 tetrahedra), and BorderTouching 6000018, 8.8 % (1,512 tetrahedra); 6.5 % and
+ * 5.2 % with σ = 0. Once R4′ tried a corner move first where R3 would split its point again: 7.7 % and 8.8 %. The
+ * amount follows the construction's last bits: computing every circumcentre from sorted corners (tried, not kept) gave
+ * 8.7 % and 8.1 %, and 12.8 % and 11.8 % (this case and Blobs 1000004) once the sorted corners were oriented. Since R2
+ * splits from 3δ instead of 2δ, this case moves by 13.8 % (1,225 tetrahedra) and BorderTouching 6000018, pinned here
+ * before, by 4.6 %; of the 27 meshes over a thousand tetrahedra with the default σ among each family's first 40 seeds,
+ * 22 move by 1.2-7.9 %, SaltAndPepper 2000025 by 8.0 %, SheetsAndLines 3000019 by 9.2 %, Mixed 8000052 by 16.7 % and
+ * Blobs 1000030 (ρ = 1, 74,429 tetrahedra) by 31 % (at least 27 % with 2δ). On the real images the defaults move by
+ * under 2 % (brain mask at 2 mm 1.0 %, atlas phantom at 1 mm 1.7 %, k-means tissues at 4 mm 0.4 %). */
 TEST(RandomizedKnownDefect, SliverRemovalMovesSmallRandomMeshesMoreWithTheLastBitsOfDelta)
 {
   const RandomCase randomCase = MakeCase(Family::ManyLabels, 5000016);
