@@ -29,6 +29,7 @@
 
 #include <array>
 #include <functional>
+#include <map>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -167,27 +168,34 @@ private:
   /** The feature transform of the current labels into m_NearestInterfaceVoxel. */
   void
   BuildNearestInterfaceMap();
-  /** Its passes along x and y only, into m_NearestInterfaceVoxel: each z-slice's own nearest interface voxels. */
-  void
-  BuildNearestInterfaceMapInSlices();
-  /** m_NearestInterfaceInSlices, of the current labels, for UpdateNearestInterfaceMap; the map stays as it is. Made
-   * at the first local regularisation only: most images never need it, and it is as large as the map. */
-  void
-  KeepNearestInterfaceInSlices();
   /** The map after labels changed near the given z-slices only (RegularizeAround; each slice within a voxel of a
-   * changed voxel, in increasing order), from m_NearestInterfaceInSlices of the labels before the change: the
-   * passes along x and y stay within a slice, so only those slices' are redone, and the pass along z on the columns
-   * whose values there changed. The result is the full build's, bit for bit. */
+   * changed voxel, in increasing order; `originals` holds each changed voxel's label before the change). The result
+   * is the full build's, bit for bit, with no per-voxel buffer beside the map: the passes along x and y stay within a
+   * slice, so a column's values after them can change in those slices only; each slice's values with the labels
+   * before and after the change say which columns changed, and the pass along z is redone on those columns alone,
+   * from every slice's values there (the marking and the pass along x of each slice, and the pass along y on the
+   * lines through those columns). Where those columns' values would take more than a few bits per voxel, the whole
+   * map is made again instead. */
   void
-  UpdateNearestInterfaceMap(const std::vector<SizeValueType> & slices);
+  UpdateNearestInterfaceMap(const std::vector<SizeValueType> & slices, std::map<std::size_t, LabelType> & originals);
+  /** One z-slice's nearest interface voxels after the marking and the pass along x (its own rows' interface
+   * voxels), into `values` (the slice's voxels in buffer order). */
+  void
+  MakeRowValuesOfSlice(SizeValueType slice, uint32_t * values) const;
+  /** One z-slice's nearest interface voxels after the passes along x and y (its own interface voxels) into
+   * `values`, as the full build has them before its pass along z. */
+  void
+  MakeValuesOfSlice(SizeValueType slice, uint32_t * values) const;
   /** Changes the labels in one ball (RegularizeAround); appends each voxel it changes to `changes`. */
   void
   RegularizeBall(const delaunay_refinement::NonManifoldPlace & place, double radius,
                  std::vector<delaunay_refinement::VoxelChange> & changes);
   void
   CountObjectVoxels();
+  /** Marks the interface voxels of the z-slices [firstSlice, endSlice) in `values`, which holds those slices'
+   * voxels (values[0] is the first voxel of firstSlice): each gets its own buffer offset, the others are left. */
   void
-  MarkInterfaceVoxels(SizeValueType firstSlice, SizeValueType endSlice);
+  MarkInterfaceVoxels(SizeValueType firstSlice, SizeValueType endSlice, uint32_t * values) const;
   /** Lines along y or z that one pass reads and writes together: one 64-byte cache line of the map per voxel along
    * the axis, where one line at a time would read a cache line for every one of its voxels. */
   static constexpr SizeValueType LinesPerGather = 16;
@@ -237,10 +245,10 @@ private:
    * stride), whose map values are at values[t * valueStride] for its voxels t (the map itself or a gathered copy). */
   void
   PropagateNearestInterfaceAlongLine(unsigned int axis, SizeValueType lineStart, uint32_t * values,
-                                     SizeValueType valueStride, LowerEnvelope & envelope);
-  /** The pass along x on the line from `lineStart`: its sites are the interface voxels themselves. */
+                                     SizeValueType valueStride, LowerEnvelope & envelope) const;
+  /** The pass along x on one row, whose map values are `row`: its sites are the interface voxels themselves. */
   void
-  PropagateNearestInterfaceAlongRow(SizeValueType lineStart);
+  PropagateNearestInterfaceAlongRow(uint32_t * row) const;
   double
   SquaredDistanceAlongLowerAxes(const SizeValueType * coordinates, SizeValueType lowerOffset, unsigned int axis) const;
   LabelType
@@ -284,9 +292,6 @@ private:
   typename LabelImageType::Pointer                         m_LabelImage;
   /** For each voxel of m_LabelImage (by buffer offset), the buffer offset of the nearest interface voxel. */
   delaunay_refinement::LargeVector<uint32_t> m_NearestInterfaceVoxel;
-  // The nearest interface voxels after the passes along x and y only (each z-slice's own), from the first local
-  // regularisation on (KeepNearestInterfaceInSlices); empty before it.
-  delaunay_refinement::LargeVector<uint32_t> m_NearestInterfaceInSlices;
   /** Buffer offset steps of m_LabelImage along each axis. */
   std::array<SizeValueType, 3>                   m_BufferStrides{};
   delaunay_refinement::AxisAlignedBox            m_ObjectBounds;

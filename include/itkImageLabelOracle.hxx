@@ -150,12 +150,14 @@ ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
  * interface voxel; in the z-slices [firstSlice, endSlice), whose face neighbours in the slices beside count too. */
 template <typename TInputImage>
 void
-ImageLabelOracle<TInputImage>::MarkInterfaceVoxels(SizeValueType firstSlice, SizeValueType endSlice)
+ImageLabelOracle<TInputImage>::MarkInterfaceVoxels(SizeValueType firstSlice, SizeValueType endSlice,
+                                                   uint32_t * values) const
 {
   const auto &        size = m_LabelImage->GetBufferedRegion().GetSize();
   const LabelType *   labels = m_LabelImage->GetBufferPointer();
   const SizeValueType strides[3] = { 1, size[0], size[0] * size[1] };
   const SizeValueType beforeFirst = firstSlice > 0 ? firstSlice - 1 : 0;
+  const SizeValueType firstOffset = firstSlice * strides[2];
   SizeValueType       offset = beforeFirst * strides[2];
   for (SizeValueType k = beforeFirst; k < endSlice; ++k)
   {
@@ -171,12 +173,12 @@ ImageLabelOracle<TInputImage>::MarkInterfaceVoxels(SizeValueType firstSlice, Siz
           {
             if (k >= firstSlice)
             {
-              m_NearestInterfaceVoxel[offset] = static_cast<uint32_t>(offset);
+              values[offset - firstOffset] = static_cast<uint32_t>(offset);
             }
             const SizeValueType nextSlice = axis == 2 ? k + 1 : k;
             if (nextSlice >= firstSlice && nextSlice < endSlice)
             {
-              m_NearestInterfaceVoxel[next] = static_cast<uint32_t>(next);
+              values[next - firstOffset] = static_cast<uint32_t>(next);
             }
           }
         }
@@ -223,7 +225,7 @@ ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlong(unsigned int axis,
   {
     for (SizeValueType line = firstLine; line < endLine; ++line)
     {
-      PropagateNearestInterfaceAlongRow(line * size[0]);
+      PropagateNearestInterfaceAlongRow(m_NearestInterfaceVoxel.data() + line * size[0]);
     }
     return;
   }
@@ -261,12 +263,11 @@ ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlong(unsigned int axis,
  * it taking the left site), so the map is the same bit for bit without the envelope's bookkeeping. */
 template <typename TInputImage>
 void
-ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlongRow(SizeValueType lineStart)
+ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlongRow(uint32_t * row) const
 {
   constexpr uint32_t  none = std::numeric_limits<uint32_t>::max();
   const double        step = m_LabelImage->GetSpacing()[0];
   const SizeValueType length = m_LabelImage->GetBufferedRegion().GetSize()[0];
-  uint32_t * const    row = m_NearestInterfaceVoxel.data() + lineStart;
   SizeValueType       previous = length;
   for (SizeValueType t = 0; t < length; ++t)
   {
@@ -301,7 +302,7 @@ template <typename TInputImage>
 void
 ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlongLine(unsigned int axis, SizeValueType lineStart,
                                                                   uint32_t * values, SizeValueType valueStride,
-                                                                  LowerEnvelope & envelope)
+                                                                  LowerEnvelope & envelope) const
 {
   constexpr uint32_t    none = std::numeric_limits<uint32_t>::max();
   constexpr double      infinity = std::numeric_limits<double>::infinity();
@@ -362,37 +363,48 @@ template <typename TInputImage>
 void
 ImageLabelOracle<TInputImage>::BuildNearestInterfaceMap()
 {
-  BuildNearestInterfaceMapInSlices();
-  PropagateNearestInterfaceAlongInParallel(2);
-}
-
-template <typename TInputImage>
-void
-ImageLabelOracle<TInputImage>::BuildNearestInterfaceMapInSlices()
-{
   const SizeValueType numberOfVoxels = m_LabelImage->GetBufferedRegion().GetNumberOfPixels();
   if (numberOfVoxels >= std::numeric_limits<uint32_t>::max())
   {
     itkGenericExceptionMacro(<< "ImageLabelOracle: the padded image has " << numberOfVoxels
                              << " voxels; at most 4294967294 are supported.");
   }
-  const auto & size = m_LabelImage->GetBufferedRegion().GetSize();
+  const auto &        size = m_LabelImage->GetBufferedRegion().GetSize();
+  const SizeValueType sliceSize = size[0] * size[1];
   m_NearestInterfaceVoxel.assign(numberOfVoxels, std::numeric_limits<uint32_t>::max());
   // A slice range's marking writes its own slices only (see MarkInterfaceVoxels()).
-  InParallel(
-    size[2], size[0] * size[1], [this](SizeValueType first, SizeValueType end) { MarkInterfaceVoxels(first, end); });
+  InParallel(size[2], sliceSize, [this, sliceSize](SizeValueType first, SizeValueType end) {
+    MarkInterfaceVoxels(first, end, m_NearestInterfaceVoxel.data() + first * sliceSize);
+  });
   PropagateNearestInterfaceAlongInParallel(0);
   PropagateNearestInterfaceAlongInParallel(1);
+  PropagateNearestInterfaceAlongInParallel(2);
 }
 
 template <typename TInputImage>
 void
-ImageLabelOracle<TInputImage>::KeepNearestInterfaceInSlices()
+ImageLabelOracle<TInputImage>::MakeRowValuesOfSlice(SizeValueType slice, uint32_t * values) const
 {
-  // The passes write m_NearestInterfaceVoxel: the map waits in m_NearestInterfaceInSlices meanwhile.
-  m_NearestInterfaceInSlices.swap(m_NearestInterfaceVoxel);
-  BuildNearestInterfaceMapInSlices();
-  m_NearestInterfaceInSlices.swap(m_NearestInterfaceVoxel);
+  const auto & size = m_LabelImage->GetBufferedRegion().GetSize();
+  std::fill(values, values + size[0] * size[1], std::numeric_limits<uint32_t>::max());
+  MarkInterfaceVoxels(slice, slice + 1, values);
+  for (SizeValueType row = 0; row < size[1]; ++row)
+  {
+    PropagateNearestInterfaceAlongRow(values + row * size[0]);
+  }
+}
+
+template <typename TInputImage>
+void
+ImageLabelOracle<TInputImage>::MakeValuesOfSlice(SizeValueType slice, uint32_t * values) const
+{
+  const auto & size = m_LabelImage->GetBufferedRegion().GetSize();
+  MakeRowValuesOfSlice(slice, values);
+  LowerEnvelope envelope(size[1], m_LabelImage->GetSpacing()[1]);
+  for (SizeValueType x = 0; x < size[0]; ++x)
+  {
+    PropagateNearestInterfaceAlongLine(1, slice * size[0] * size[1] + x, values + x, size[0], envelope);
+  }
 }
 
 template <typename TInputImage>
@@ -430,54 +442,95 @@ ImageLabelOracle<TInputImage>::InParallel(SizeValueType count, SizeValueType vox
 
 template <typename TInputImage>
 void
-ImageLabelOracle<TInputImage>::UpdateNearestInterfaceMap(const std::vector<SizeValueType> & slices)
+ImageLabelOracle<TInputImage>::UpdateNearestInterfaceMap(const std::vector<SizeValueType> & slices,
+                                                         std::map<std::size_t, LabelType> & originals)
 {
   if (slices.empty())
   {
     return;
   }
-  if (m_NearestInterfaceInSlices.empty())
-  {
-    throw std::logic_error(
-      "UpdateNearestInterfaceMap: the slices' values were not kept (KeepNearestInterfaceInSlices)");
-  }
   const auto &        size = m_LabelImage->GetBufferedRegion().GetSize();
   const SizeValueType sliceSize = size[0] * size[1];
-  // The slices are redone in place, then given their final values back: the pass along z is redone only on the
-  // columns whose values after the first two passes changed, from those values.
+  // Each slice of the update is made twice, and every slice once more: from half of the slices on, the whole map
+  // costs less.
+  if (2 * slices.size() >= size[2])
+  {
+    BuildNearestInterfaceMap();
+    return;
+  }
+  LabelType * const labels = m_LabelImage->GetBufferPointer();
+  const auto        swapLabels = [&] {
+    for (auto & [offset, label] : originals)
+    {
+      std::swap(labels[offset], label);
+    }
+  };
   std::vector<bool>     columnChanged(sliceSize, false);
-  std::vector<uint32_t> finalValues(sliceSize);
+  std::vector<uint32_t> before(sliceSize);
+  std::vector<uint32_t> after(sliceSize);
   for (const SizeValueType slice : slices)
   {
-    const auto first = m_NearestInterfaceVoxel.begin() + static_cast<std::ptrdiff_t>(slice * sliceSize);
-    const auto end = first + static_cast<std::ptrdiff_t>(sliceSize);
-    std::copy(first, end, finalValues.begin());
-    std::fill(first, end, std::numeric_limits<uint32_t>::max());
-    MarkInterfaceVoxels(slice, slice + 1);
-    // The slice's lines along x, then along y (size[0] lines of the slice's block).
-    PropagateNearestInterfaceAlong(0, slice * size[1], (slice + 1) * size[1]);
-    PropagateNearestInterfaceAlong(1, slice * size[0], (slice + 1) * size[0]);
-    const auto inSlices = m_NearestInterfaceInSlices.begin() + static_cast<std::ptrdiff_t>(slice * sliceSize);
+    swapLabels();
+    MakeValuesOfSlice(slice, before.data());
+    swapLabels();
+    MakeValuesOfSlice(slice, after.data());
     for (SizeValueType column = 0; column < sliceSize; ++column)
     {
-      if (first[column] != inSlices[column])
-      {
-        columnChanged[column] = true;
-        inSlices[column] = first[column];
-      }
+      columnChanged[column] = columnChanged[column] || before[column] != after[column];
     }
-    std::copy(finalValues.begin(), finalValues.end(), first);
   }
-  LowerEnvelope envelope(size[2], m_LabelImage->GetSpacing()[2]);
+  std::vector<SizeValueType> columns;
   for (SizeValueType column = 0; column < sliceSize; ++column)
   {
     if (columnChanged[column])
     {
-      for (SizeValueType slice = 0; slice < size[2]; ++slice)
+      columns.push_back(column);
+    }
+  }
+  if (columns.empty())
+  {
+    return;
+  }
+  // The changed columns' values, column by column: a byte per voxel of the map at most, or the whole map again.
+  const SizeValueType numberOfVoxels = m_NearestInterfaceVoxel.size();
+  if (columns.size() * size[2] * sizeof(uint32_t) > numberOfVoxels)
+  {
+    BuildNearestInterfaceMap();
+    return;
+  }
+  // The lines along y through the changed columns: one per x among them, in increasing order.
+  std::vector<SizeValueType> linesAlongY;
+  for (const SizeValueType column : columns)
+  {
+    linesAlongY.push_back(column % size[0]);
+  }
+  std::sort(linesAlongY.begin(), linesAlongY.end());
+  linesAlongY.erase(std::unique(linesAlongY.begin(), linesAlongY.end()), linesAlongY.end());
+  std::vector<uint32_t> columnValues(columns.size() * size[2]);
+  InParallel(size[2], sliceSize, [&](SizeValueType first, SizeValueType end) {
+    std::vector<uint32_t> values(sliceSize);
+    LowerEnvelope         envelope(size[1], m_LabelImage->GetSpacing()[1]);
+    for (SizeValueType slice = first; slice < end; ++slice)
+    {
+      MakeRowValuesOfSlice(slice, values.data());
+      for (const SizeValueType x : linesAlongY)
       {
-        m_NearestInterfaceVoxel[column + slice * sliceSize] = m_NearestInterfaceInSlices[column + slice * sliceSize];
+        PropagateNearestInterfaceAlongLine(1, slice * sliceSize + x, values.data() + x, size[0], envelope);
       }
-      PropagateNearestInterfaceAlongLine(2, column, m_NearestInterfaceVoxel.data() + column, sliceSize, envelope);
+      for (SizeValueType index = 0; index < columns.size(); ++index)
+      {
+        columnValues[index * size[2] + slice] = values[columns[index]];
+      }
+    }
+  });
+  LowerEnvelope envelope(size[2], m_LabelImage->GetSpacing()[2]);
+  for (SizeValueType index = 0; index < columns.size(); ++index)
+  {
+    uint32_t * const values = columnValues.data() + index * size[2];
+    PropagateNearestInterfaceAlongLine(2, columns[index], values, 1, envelope);
+    for (SizeValueType slice = 0; slice < size[2]; ++slice)
+    {
+      m_NearestInterfaceVoxel[columns[index] + slice * sliceSize] = values[slice];
     }
   }
 }
