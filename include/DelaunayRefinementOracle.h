@@ -20,6 +20,7 @@
 
 #include "DelaunayRefinementTypes.h"
 
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -122,6 +123,11 @@ struct LabelledPoint
   Label   label{ BackgroundLabel };
 };
 
+/** Labelled points given one at a time: points(visit) calls visit() on each, in a fixed order. The census's points are
+ * two per tetrahedron of the mesh: as a vector they were 64 bytes a tetrahedron, 4.5 MB of the peak memory on the 1 mm
+ * brain mask at δ = 2 mm, made while the triangulation was still there. */
+using LabelledPoints = std::function<void(const std::function<void(const LabelledPoint &)> & visit)>;
+
 /** A part of a label that holds no tetrahedron of it (LabelPartCensus). */
 struct UnmeshedPart
 {
@@ -147,7 +153,7 @@ public:
   /** The parts (BackgroundLabel's excepted) of at most `maximumVolume` none of whose voxels holds one of `points` of
    * the part's label, in a fixed order, each with its largest ball measured up to `radiusLimit`. */
   virtual std::vector<UnmeshedPart>
-  PartsHoldingNone(const std::vector<LabelledPoint> & points, double radiusLimit,
+  PartsHoldingNone(const LabelledPoints & points, double radiusLimit,
                    double maximumVolume = std::numeric_limits<double>::infinity()) const = 0;
 
 protected:

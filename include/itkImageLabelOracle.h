@@ -104,7 +104,7 @@ public:
   /** The parts of the labels as regularised (face-connected voxels of one label) that hold none of `points` of
    * their label; none when the labels are not voxels (an interpolator other than nearest-neighbour). */
   std::vector<delaunay_refinement::UnmeshedPart>
-  PartsHoldingNone(const std::vector<delaunay_refinement::LabelledPoint> & points, double radiusLimit,
+  PartsHoldingNone(const delaunay_refinement::LabelledPoints & points, double radiusLimit,
                    double maximumVolume = std::numeric_limits<double>::infinity()) const override;
 
   SizeValueType

@@ -245,8 +245,8 @@ ImageLabelOracle<TInputImage>::RegularizeAround(const std::vector<delaunay_refin
 
 template <typename TInputImage>
 std::vector<delaunay_refinement::UnmeshedPart>
-ImageLabelOracle<TInputImage>::PartsHoldingNone(const std::vector<delaunay_refinement::LabelledPoint> & points,
-                                                double radiusLimit, double maximumVolume) const
+ImageLabelOracle<TInputImage>::PartsHoldingNone(const delaunay_refinement::LabelledPoints & points, double radiusLimit,
+                                                double maximumVolume) const
 {
   std::vector<delaunay_refinement::UnmeshedPart> parts;
   if (!m_LabelsAreVoxelwise || m_NumberOfObjectVoxels == 0)
@@ -255,14 +255,13 @@ ImageLabelOracle<TInputImage>::PartsHoldingNone(const std::vector<delaunay_refin
   }
   const LabelType * const  labels = m_LabelImage->GetBufferPointer();
   std::vector<std::size_t> marked;
-  for (const delaunay_refinement::LabelledPoint & point : points)
-  {
+  points([&](const delaunay_refinement::LabelledPoint & point) {
     SizeValueType offset = 0;
     if (VoxelOffsetAt(point.point, offset) && labels[offset] == point.label)
     {
       marked.push_back(offset);
     }
-  }
+  });
   const auto & region = m_LabelImage->GetBufferedRegion();
   const auto & size = region.GetSize();
   const auto & spacing = m_LabelImage->GetSpacing();

@@ -109,6 +109,7 @@ public:
     RefineAndPerturbFlatTetrahedra();
     RepairTopology();
     PeelFlatCaps();
+    m_Queue.ReleaseEmptyLevels();
     const auto      extractionStart = std::chrono::steady_clock::now();
     TetrahedralMesh mesh = WithEveryThickPart(ExtractWithoutFlatTetrahedra());
     m_Statistics.topologyRelabelledTetrahedra = mesh.topologyRelabelledTetrahedra.size();
@@ -472,8 +473,8 @@ private:
     }
     const double delta = m_Parameters.surfaceSamplingDistance;
     std::size_t  zones = 0;
-    for (const UnmeshedPart & part :
-         m_Census->PartsHoldingNone({}, WellSampledPartRadius * delta, SmallPartVolume * delta * delta * delta))
+    for (const UnmeshedPart & part : m_Census->PartsHoldingNone(
+           NoLabelledPoints, WellSampledPartRadius * delta, SmallPartVolume * delta * delta * delta))
     {
       if (IsThick(part) && part.radius < WellSampledPartRadius * delta * (1.0 - PartTieMargin))
       {
@@ -544,23 +545,27 @@ private:
   }
 
   /** The circumcentre and the centroid of every tetrahedron, with its label: where the census looks for them. */
-  static std::vector<LabelledPoint>
+  static LabelledPoints
   PointsOfTetrahedra(const TetrahedralMesh & mesh)
   {
-    std::vector<LabelledPoint> points;
-    points.reserve(2 * mesh.tetrahedra.size());
-    for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
-    {
-      std::array<Vector3, 4> corners{};
-      for (int corner = 0; corner < 4; ++corner)
+    return [&mesh](const std::function<void(const LabelledPoint &)> & visit) {
+      for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
       {
-        corners[corner] = mesh.points[mesh.tetrahedra[t][corner]];
+        std::array<Vector3, 4> corners{};
+        for (int corner = 0; corner < 4; ++corner)
+        {
+          corners[corner] = mesh.points[mesh.tetrahedra[t][corner]];
+        }
+        visit({ TetrahedronCircumcenter(corners), mesh.tetrahedronLabels[t] });
+        visit({ 0.25 * (corners[0] + corners[1] + corners[2] + corners[3]), mesh.tetrahedronLabels[t] });
       }
-      points.push_back({ TetrahedronCircumcenter(corners), mesh.tetrahedronLabels[t] });
-      points.push_back({ 0.25 * (corners[0] + corners[1] + corners[2] + corners[3]), mesh.tetrahedronLabels[t] });
-    }
-    return points;
+    };
   }
+
+  /** No point: the census before there is a mesh (SampleThinPartsFinely). */
+  static void
+  NoLabelledPoints(const std::function<void(const LabelledPoint &)> &)
+  {}
 
   TetrahedralMesh
   ExtractAndRemoveFlatTetrahedra()

@@ -137,6 +137,16 @@ public:
     return removed;
   }
 
+  /** Gives the storage back if the heap is empty: emptied, it keeps the memory of the most entries it held. */
+  void
+  ReleaseIfEmpty()
+  {
+    if (m_Entries.empty())
+    {
+      std::vector<QueueEntry>().swap(m_Entries);
+    }
+  }
+
 private:
   static constexpr std::size_t Arity = 4;
 
@@ -246,6 +256,17 @@ public:
     }
     level = static_cast<QueueLevel>(index);
     return m_Levels[index].Pop();
+  }
+
+  /** Gives back the storage of the empty levels (FourAryHeap::ReleaseIfEmpty), before the mesh is extracted while
+   * the triangulation is still there: the 1 mm brain mask at δ = 2 mm kept 5 MB for 131,072 entries. */
+  void
+  ReleaseEmptyLevels()
+  {
+    for (FourAryHeap & heap : m_Levels)
+    {
+      heap.ReleaseIfEmpty();
+    }
   }
 
 private:
