@@ -174,7 +174,7 @@ private:
    * slice, so a column's values after them can change in those slices only; each slice's values with the labels
    * before and after the change say which columns changed, and the pass along z is redone on those columns alone,
    * from every slice's values there (the marking and the pass along x of each slice, and the pass along y on the
-   * lines through those columns). Where those columns' values would take more than a few bits per voxel, the whole
+   * lines through those columns). Where those columns' values would take more than a byte per voxel, the whole
    * map is made again instead. */
   void
   UpdateNearestInterfaceMap(const std::vector<SizeValueType> & slices, std::map<std::size_t, LabelType> & originals);
