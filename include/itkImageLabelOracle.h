@@ -169,13 +169,13 @@ private:
   void
   BuildNearestInterfaceMap();
   /** The map after labels changed near the given z-slices only (RegularizeAround; each slice within a voxel of a
-   * changed voxel, in increasing order; `originals` holds each changed voxel's label before the change). The result
-   * is the full build's, bit for bit, with no per-voxel buffer beside the map: the passes along x and y stay within a
-   * slice, so a column's values after them can change in those slices only; each slice's values with the labels
-   * before and after the change say which columns changed, and the pass along z is redone on those columns alone,
-   * from every slice's values there (the marking and the pass along x of each slice, and the pass along y on the
-   * lines through those columns). Where those columns' values would take more than a byte per voxel, the whole
-   * map is made again instead. */
+   * changed voxel, in increasing order; `originals` holds each changed voxel's label before the change, and is
+   * swapped with the labels and back). The result is the full build's, bit for bit, with no per-voxel buffer beside
+   * the map: the passes along x and y stay within a slice, so a column's values after them can change in those
+   * slices only; each slice's values with the labels before and after the change say which columns changed, and the
+   * pass along z is redone on those columns alone, from every slice's values there (the marking and the pass along
+   * x of each slice, and the pass along y on the lines through those columns). Where those columns' values would
+   * take more than a byte per voxel, the whole map is made again instead. */
   void
   UpdateNearestInterfaceMap(const std::vector<SizeValueType> & slices, std::map<std::size_t, LabelType> & originals);
   /** One z-slice's nearest interface voxels after the marking and the pass along x (its own rows' interface
