@@ -95,8 +95,9 @@ public:
   /** With voxelwise labels: in the ball around each place (voxel centres within `radius`, the label image's
    * outer layer of background excepted), the place's label takes every voxel when it holds at least half of them,
    * else gives its voxels to the label most frequent among the others there (the smaller on a tie). Then the
-   * diagonal contacts near the changed voxels are joined again (when asked) and the feature transform is updated. Other
-   * interpolators define their own surface: nothing changes and no ball is returned. */
+   * diagonal contacts near the changed voxels are joined again (when asked); a ball whose changes that undid every one
+   * of takes the other choice, and the contacts near it are joined again. The feature transform is updated. No ball
+   * is returned when the labels end as they were, nor for other interpolators, which define their own surface. */
   std::vector<delaunay_refinement::Ball>
   RegularizeAround(const std::vector<delaunay_refinement::NonManifoldPlace> & places, double radius) override;
 
@@ -186,9 +187,10 @@ private:
    * `values`, as the full build has them before its pass along z. */
   void
   MakeValuesOfSlice(SizeValueType slice, uint32_t * values) const;
-  /** Changes the labels in one ball (RegularizeAround); appends each voxel it changes to `changes`. */
+  /** Changes the labels in one ball (RegularizeAround), by the majority's choice or, with `otherChoice`, by the other
+   * one (a fill for a cut, a cut for a fill); appends each voxel it changes to `changes`. */
   void
-  RegularizeBall(const delaunay_refinement::NonManifoldPlace & place, double radius,
+  RegularizeBall(const delaunay_refinement::NonManifoldPlace & place, double radius, bool otherChoice,
                  std::vector<delaunay_refinement::VoxelChange> & changes);
   void
   CountObjectVoxels();
