@@ -24,7 +24,9 @@
 // TetGen and Shewchuk's "Two discrete optimization algorithms for the topological improvement of tetrahedral
 // meshes", 2002). Only where the ring lies inside one tissue, so no boundary or interface triangle changes, and
 // only when every new tetrahedron keeps the guarantees: positive volume that is not flat to rounding, radius-edge
-// ratio < ρ, and the tissue's label at its circumcentre (the output's invariant). The mesh is then no longer
+// ratio < ρ, and the tissue's label at its circumcentre (the output's invariant). A ring with tetrahedra that the
+// topology relabelling gave their label (which they need not carry at their circumcentres) is replaced only by
+// tetrahedra listed as relabelled too, whose circumcentres are not asked. The mesh is then no longer
 // Delaunay there, which no guarantee needs. It is for the flat tetrahedra that no move of a corner removes: where
 // the surface samples of the voxel lattice are barely more than δ apart, every move breaks Lemma 2's spacing.
 
@@ -133,8 +135,8 @@ private:
     }
   }
 
-  /** A relabelled tetrahedron (docs/algorithm.md, "Topology") does not carry the label at its circumcentre; its
-   * ring is left alone. */
+  /** A relabelled tetrahedron (docs/algorithm.md, "Topology") does not carry the label at its circumcentre, and
+   * neither need the tetrahedra that replace a ring holding one (RemoveEdge). */
   void
   MarkRelabelled(const TetrahedralMesh & mesh)
   {
@@ -345,17 +347,22 @@ private:
 
   /** Removes the edge (a, b) when its ring is inside `label` (the flat tetrahedron `flat` aside) and a
    * triangulation of its link polygon gives tetrahedra of `label` that keep the guarantees; among those, the one
-   * whose smallest dihedral angle is largest. */
+   * whose smallest dihedral angle is largest. Where the topology relabelling gave a tetrahedron of the ring its label,
+   * the ring's label is not the oracle's there: the new tetrahedra are listed as relabelled, and their circumcentres'
+   * labels are not asked (the randomized SaltAndPepper 2125029 kept a flat tetrahedron whose every ring of one label
+   * held relabelled tetrahedra). No boundary or interface triangle changes either way. */
   bool
   RemoveEdge(TetrahedralMesh & mesh, uint32_t a, uint32_t b, Label label, uint32_t flat)
   {
     const std::vector<uint32_t> ring = TetrahedraAroundEdge(mesh, a, b);
+    bool                        ringRelabelled = false;
     for (const uint32_t t : ring)
     {
-      if ((t != flat && mesh.tetrahedronLabels[t] != label) || m_Relabelled[t])
+      if (t != flat && mesh.tetrahedronLabels[t] != label)
       {
         return false;
       }
+      ringRelabelled = ringRelabelled || m_Relabelled[t];
     }
     if (ring.size() < 3 || ring.size() > LargestRing)
     {
@@ -380,7 +387,8 @@ private:
         for (const uint32_t apex : { a, b })
         {
           std::optional<Tetrahedron> tetrahedron = Oriented(mesh, apex, triangle);
-          if (!tetrahedron || !KeepsTheGuarantees(mesh, *tetrahedron, label))
+          if (!tetrahedron ||
+              !KeepsTheGuarantees(mesh, *tetrahedron, ringRelabelled ? std::nullopt : std::optional(label)))
           {
             return;
           }
@@ -408,7 +416,11 @@ private:
       mesh.tetrahedra.push_back(tetrahedron);
       mesh.tetrahedronLabels.push_back(label);
       m_Removed.push_back(0);
-      m_Relabelled.push_back(0);
+      m_Relabelled.push_back(ringRelabelled ? 1 : 0);
+      if (ringRelabelled)
+      {
+        mesh.topologyRelabelledTetrahedra.push_back(t);
+      }
       for (const uint32_t vertex : tetrahedron)
       {
         m_Incident[vertex].push_back(t);
@@ -548,14 +560,18 @@ private:
     return tetrahedron;
   }
 
+  /** Radius-edge ratio < ρ and, when `labelAtCircumcenter` is given, that label at the circumcentre. */
   bool
-  KeepsTheGuarantees(const TetrahedralMesh & mesh, const Tetrahedron & tetrahedron, Label label) const
+  KeepsTheGuarantees(const TetrahedralMesh & mesh, const Tetrahedron & tetrahedron,
+                     std::optional<Label> labelAtCircumcenter) const
   {
     const std::array<Vector3, 4> corners = CornersOf(mesh, tetrahedron);
-    return RadiusEdgeRatio(corners) < m_RadiusEdgeBound && m_Oracle.LabelAt(TetrahedronCircumcenter(corners)) == label;
+    return RadiusEdgeRatio(corners) < m_RadiusEdgeBound &&
+           (!labelAtCircumcenter || m_Oracle.LabelAt(TetrahedronCircumcenter(corners)) == *labelAtCircumcenter);
   }
 
-  /** Drops the removed tetrahedra, keeping the others' order, and renumbers the relabelling list. */
+  /** Drops the removed tetrahedra, keeping the others' order, and renumbers the relabelling list (without the
+   * removed ones). */
   void
   Compact(TetrahedralMesh & mesh) const
   {
@@ -573,10 +589,15 @@ private:
     }
     mesh.tetrahedra.resize(kept);
     mesh.tetrahedronLabels.resize(kept);
-    for (uint32_t & t : mesh.topologyRelabelledTetrahedra)
+    std::vector<uint32_t> relabelled;
+    for (const uint32_t t : mesh.topologyRelabelledTetrahedra)
     {
-      t = newIndex[t];
+      if (!m_Removed[t])
+      {
+        relabelled.push_back(newIndex[t]);
+      }
     }
+    mesh.topologyRelabelledTetrahedra = std::move(relabelled);
   }
 
   const LabelOracle &                m_Oracle;
