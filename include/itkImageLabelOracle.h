@@ -95,7 +95,7 @@ public:
   /** With voxelwise labels: in the ball around each place (voxel centres within `radius`, the label image's
    * outer layer of background excepted), the place's label takes every voxel when it holds at least half of them,
    * else gives its voxels to the label most frequent among the others there (the smaller on a tie). Then the
-   * diagonal contacts near the changed voxels are joined again (when asked); a ball all of whose changes that undid
+   * diagonal contacts near the changed voxels are joined again (when asked); a ball whose every change that undid
    * takes the other choice, and the contacts near it are joined again. The feature transform is updated. No ball is
    * returned when the labels end as they were, nor for other interpolators, which define their own surface. */
   std::vector<delaunay_refinement::Ball>

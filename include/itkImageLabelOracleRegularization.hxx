@@ -194,22 +194,26 @@ ImageLabelOracle<TInputImage>::RegularizeAround(const std::vector<delaunay_refin
     pinchChanges.insert(pinchChanges.end(), joined.begin(), joined.end());
   };
   joinDiagonalVoxelsAfter(0);
+  // The first change of a voxel holds the label it had before this call.
+  std::map<std::size_t, LabelType> originals;
+  const auto                       recordOriginals = [&](std::size_t first) {
+    for (std::size_t change = first; change < changes.size(); ++change)
+    {
+      originals.emplace(changes[change].offset, changes[change].before);
+    }
+  };
+  recordOriginals(0);
   // A ball whose every change the pinch removal undid changed nothing: a tissue cut to the background where the
   // removal, which never cuts a tissue by the background, joined its voxels again (SaltAndPepper 2123048 of the
   // randomized suite kept one place through all 20 rounds that way, each round refining the same mesh). Such a ball
   // takes the other choice: the place's label fills it, or gives its voxels to the most frequent other label.
-  const std::size_t                endOfFirstChanges = changes.size();
-  std::map<std::size_t, LabelType> labelBefore;
-  for (std::size_t change = 0; change < changedInBalls; ++change)
-  {
-    labelBefore.emplace(changes[change].offset, changes[change].before);
-  }
+  const std::size_t endOfFirstChanges = changes.size();
   for (std::size_t ball = 0; ball < balls.size(); ++ball)
   {
     const std::size_t end = ball + 1 < balls.size() ? firstChangeOfBall[ball + 1] : changedInBalls;
     const bool        undone =
       std::all_of(changes.begin() + firstChangeOfBall[ball], changes.begin() + end, [&](const auto & change) {
-        return labels[change.offset] == labelBefore[change.offset];
+        return labels[change.offset] == originals[change.offset];
       });
     if (undone)
     {
@@ -220,12 +224,7 @@ ImageLabelOracle<TInputImage>::RegularizeAround(const std::vector<delaunay_refin
   {
     changedInBalls += changes.size() - endOfFirstChanges;
     joinDiagonalVoxelsAfter(endOfFirstChanges);
-  }
-  // The first change of a voxel holds the label it had before this call.
-  std::map<std::size_t, LabelType> originals;
-  for (const delaunay_refinement::VoxelChange & change : changes)
-  {
-    originals.emplace(change.offset, change.before);
+    recordOriginals(endOfFirstChanges);
   }
   if (std::all_of(originals.begin(), originals.end(), [labels](const auto & original) {
         return labels[original.first] == original.second;
