@@ -212,6 +212,9 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
                       << ": the valid range is [0, 0.5] (a fraction of delta; 0 = no regularisation)");
   }
 
+  // The oracle's set-up (its label image, the regularisation, the nearest-interface map) reports the first part of
+  // the progress range; the refinement the rest.
+  constexpr float setupShare = 0.1f;
   this->UpdateProgress(0.0f);
   const InterpolatorPointer interpolator = MakeInterpolator(image);
   const ImageLabelMapping   mapping{ m_Labels,
@@ -220,8 +223,8 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
                                    m_IsoValue,
                                    m_JoinDiagonalVoxels,
                                    m_RegularizationScale * m_EffectiveSurfaceSamplingDistance,
-                                   [this] {
-                                     this->UpdateProgress(0.0f);
+                                   [this](double setUpFraction) {
+                                     this->UpdateProgress(setupShare * static_cast<float>(setUpFraction));
                                      return !this->GetAbortGenerateData();
                                    },
                                    std::min(this->GetNumberOfWorkUnits(),
@@ -255,8 +258,6 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
                       << (m_UseIsoValue ? "no value >= the iso-value" : "no voxel carries a selected label")
                       << "): there is nothing to mesh.");
   }
-  // The oracle's distance map is the set-up; refinement is the rest of the progress range.
-  constexpr float setupShare = 0.1f;
   this->UpdateProgress(setupShare);
   const delaunay_refinement::ProgressObserver observer =
     [this](const delaunay_refinement::RefinementProgress & progress) {

@@ -235,14 +235,38 @@ private:
   /** The pass along `axis` on the lines firstLine..endLine - 1, numbered in memory order of their first voxel. */
   void
   PropagateNearestInterfaceAlong(unsigned int axis, SizeValueType firstLine, SizeValueType endLine);
-  /** The whole image's pass along `axis`, its lines shared among the threads (InParallel()). */
+  /** The whole image's pass along `axis`, its lines shared among the threads (InParallel()); during the set-up,
+   * the set-up's progress goes from `firstFraction` to `endFraction` over the pass. */
   void
-  PropagateNearestInterfaceAlongInParallel(unsigned int axis);
+  PropagateNearestInterfaceAlongInParallel(unsigned int axis, double firstFraction, double endFraction);
   /** Calls work(first, end) on consecutive ranges covering [0, count) of items of `voxelsPerItem` voxels each, on
-   * up to m_Mapping.numberOfThreads threads (fewer for small images). The calls must not depend on each other. */
+   * up to m_Mapping.numberOfThreads threads (fewer for small images). The calls must not depend on each other.
+   * During the set-up the items go in rounds of about SetUpRoundVoxels voxels, with a SetUpCheckpoint() after each
+   * (the set-up's progress from `firstFraction` to `endFraction`), so that an abort is honoured within a round. */
   template <typename TWork>
   void
-  InParallel(SizeValueType count, SizeValueType voxelsPerItem, const TWork & work) const;
+  InParallel(SizeValueType count, SizeValueType voxelsPerItem, const TWork & work, double firstFraction = 0.0,
+             double endFraction = 0.0) const;
+  /** During the set-up (the constructor): reports `fraction` of the set-up done through
+   * ImageLabelMapping::keepGoing and throws RefinementAborted when it says no. Afterwards nothing: the refinement
+   * reports its own progress, and the map's rebuilds then are a part of it. Called on the caller's thread only. */
+  void
+  SetUpCheckpoint(double fraction) const;
+  /** How far the set-up is after each of its steps, as a fraction of its work: rough shares from a profile of a
+   * large image meshed coarsely (38 M voxels at 8 mm, bench/README.md, "At 1e3134b"), where the set-up is most of
+   * the run. */
+  struct SetUpProgressAfter
+  {
+    static constexpr double bounds = 0.03;
+    static constexpr double selection = 0.06;
+    static constexpr double regularization = 0.40;
+    static constexpr double pinchRemoval = 0.48;
+    static constexpr double marking = 0.55;
+    static constexpr double passAlongX = 0.65;
+    static constexpr double passAlongY = 0.80;
+  };
+  /** Voxels per round of a set-up pass between two checkpoints: about 20-80 ms of one thread's work. */
+  static constexpr SizeValueType SetUpRoundVoxels = SizeValueType{ 1 } << 21;
   /** The pass on the line along `axis` from `lineStart` (whose offset within its block is less than the line's
    * stride), whose map values are at values[t * valueStride] for its voxels t (the map itself or a gathered copy). */
   void
@@ -288,6 +312,8 @@ private:
   ImageLabelSelection                     m_Selection;
   /** Whether LabelAt() is the label of the nearest voxel (a nearest-neighbour interpolator). */
   bool m_LabelsAreVoxelwise;
+  /** True in the constructor only (SetUpCheckpoint()). */
+  bool m_SettingUp{ true };
   /** The parts of the labels for PartsHoldingNone(), found at its first call and again after RegularizeAround()
    * changed the labels. */
   mutable std::unique_ptr<delaunay_refinement::LabelParts> m_LabelParts;

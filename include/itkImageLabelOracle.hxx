@@ -48,6 +48,18 @@ ImageLabelOracle<TInputImage>::ImageLabelOracle(const InputImageType * image, co
   {
     BuildNearestInterfaceMap();
   }
+  SetUpCheckpoint(1.0);
+  m_SettingUp = false;
+}
+
+template <typename TInputImage>
+void
+ImageLabelOracle<TInputImage>::SetUpCheckpoint(double fraction) const
+{
+  if (m_SettingUp && m_Mapping.keepGoing && !m_Mapping.keepGoing(fraction))
+  {
+    throw delaunay_refinement::RefinementAborted("The oracle's set-up was aborted by the progress observer");
+  }
 }
 
 /** The oracle's own label image covers the object's voxels and one voxel of background around them (the input's
@@ -87,6 +99,7 @@ ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
         }
       }
     });
+  SetUpCheckpoint(SetUpProgressAfter::bounds);
   auto kept = buffered;
   if (m_NumberOfObjectVoxels > 0)
   {
@@ -99,19 +112,24 @@ ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
   kept.PadByRadius(1);
   m_LabelImage = m_Selection.SelectedLabelImage(*image, kept);
   m_BufferStrides = { 1, kept.GetSize()[0], kept.GetSize()[0] * kept.GetSize()[1] };
+  SetUpCheckpoint(SetUpProgressAfter::selection);
   if (m_Mapping.regularizationRadius > 0.0 && m_LabelsAreVoxelwise && m_NumberOfObjectVoxels > 0)
   {
     // Regularisation only moves labels between voxels that are already inside the object's padded bounds.
     const auto & spacing = image->GetSpacing();
-    m_RegularizationReport =
-      delaunay_refinement::RegularizeLabels(m_LabelImage->GetBufferPointer(),
-                                            { kept.GetSize()[0], kept.GetSize()[1], kept.GetSize()[2] },
-                                            { spacing[0], spacing[1], spacing[2] },
-                                            m_Mapping.regularizationRadius,
-                                            m_Mapping.keepGoing,
-                                            m_Mapping.numberOfThreads);
+    m_RegularizationReport = delaunay_refinement::RegularizeLabels(
+      m_LabelImage->GetBufferPointer(),
+      { kept.GetSize()[0], kept.GetSize()[1], kept.GetSize()[2] },
+      { spacing[0], spacing[1], spacing[2] },
+      m_Mapping.regularizationRadius,
+      [this] {
+        SetUpCheckpoint(SetUpProgressAfter::selection);
+        return true;
+      },
+      m_Mapping.numberOfThreads);
     CountObjectVoxels();
   }
+  SetUpCheckpoint(SetUpProgressAfter::regularization);
   if (m_Mapping.joinDiagonalVoxels && m_LabelsAreVoxelwise)
   {
     // A changed voxel is in a block with an object voxel, so within one voxel of the object's bounds; the label
@@ -123,6 +141,7 @@ ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
                                               m_Mapping.numberOfThreads);
     CountObjectVoxels();
   }
+  SetUpCheckpoint(SetUpProgressAfter::pinchRemoval);
   if (m_NumberOfObjectVoxels == 0)
   {
     return;
@@ -372,12 +391,17 @@ ImageLabelOracle<TInputImage>::BuildNearestInterfaceMap()
   const SizeValueType sliceSize = size[0] * size[1];
   m_NearestInterfaceVoxel.assign(numberOfVoxels, std::numeric_limits<uint32_t>::max());
   // A slice range's marking writes its own slices only (see MarkInterfaceVoxels()).
-  InParallel(size[2], sliceSize, [this, sliceSize](SizeValueType first, SizeValueType end) {
-    MarkInterfaceVoxels(first, end, m_NearestInterfaceVoxel.data() + first * sliceSize);
-  });
-  PropagateNearestInterfaceAlongInParallel(0);
-  PropagateNearestInterfaceAlongInParallel(1);
-  PropagateNearestInterfaceAlongInParallel(2);
+  InParallel(
+    size[2],
+    sliceSize,
+    [this, sliceSize](SizeValueType first, SizeValueType end) {
+      MarkInterfaceVoxels(first, end, m_NearestInterfaceVoxel.data() + first * sliceSize);
+    },
+    SetUpProgressAfter::pinchRemoval,
+    SetUpProgressAfter::marking);
+  PropagateNearestInterfaceAlongInParallel(0, SetUpProgressAfter::marking, SetUpProgressAfter::passAlongX);
+  PropagateNearestInterfaceAlongInParallel(1, SetUpProgressAfter::passAlongX, SetUpProgressAfter::passAlongY);
+  PropagateNearestInterfaceAlongInParallel(2, SetUpProgressAfter::passAlongY, 1.0);
 }
 
 template <typename TInputImage>
@@ -408,35 +432,58 @@ ImageLabelOracle<TInputImage>::MakeValuesOfSlice(SizeValueType slice, uint32_t *
 
 template <typename TInputImage>
 void
-ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlongInParallel(unsigned int axis)
+ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlongInParallel(unsigned int axis, double firstFraction,
+                                                                        double endFraction)
 {
   const SizeValueType length = m_LabelImage->GetBufferedRegion().GetSize()[axis];
-  InParallel(m_NearestInterfaceVoxel.size() / length, length, [this, axis](SizeValueType first, SizeValueType end) {
-    PropagateNearestInterfaceAlong(axis, first, end);
-  });
+  InParallel(
+    m_NearestInterfaceVoxel.size() / length,
+    length,
+    [this, axis](SizeValueType first, SizeValueType end) { PropagateNearestInterfaceAlong(axis, first, end); },
+    firstFraction,
+    endFraction);
 }
 
 template <typename TInputImage>
 template <typename TWork>
 void
-ImageLabelOracle<TInputImage>::InParallel(SizeValueType count, SizeValueType voxelsPerItem, const TWork & work) const
+ImageLabelOracle<TInputImage>::InParallel(SizeValueType count, SizeValueType voxelsPerItem, const TWork & work,
+                                          double firstFraction, double endFraction) const
 {
   // Below this many voxels per thread, starting a thread costs more than it saves.
   constexpr SizeValueType minimumVoxelsPerThread = 1 << 16;
-  const SizeValueType     ranges = std::max<SizeValueType>(
-    1, std::min<SizeValueType>({ m_Mapping.numberOfThreads, count * voxelsPerItem / minimumVoxelsPerThread, count }));
-  const SizeValueType perRange = (count + ranges - 1) / ranges;
-  const auto          run = [&](SizeValueType range) {
-    work(std::min(count, range * perRange), std::min(count, (range + 1) * perRange));
+  const auto              runInParallel = [this, voxelsPerItem, &work](SizeValueType first, SizeValueType end) {
+    const SizeValueType items = end - first;
+    const SizeValueType ranges = std::max<SizeValueType>(
+      1, std::min<SizeValueType>({ m_Mapping.numberOfThreads, items * voxelsPerItem / minimumVoxelsPerThread, items }));
+    const SizeValueType perRange = (items + ranges - 1) / ranges;
+    const auto          run = [&](SizeValueType range) {
+      work(first + std::min(items, range * perRange), first + std::min(items, (range + 1) * perRange));
+    };
+    if (ranges == 1)
+    {
+      run(0);
+      return;
+    }
+    const MultiThreaderBase::Pointer threader = MultiThreaderBase::New();
+    threader->SetNumberOfWorkUnits(static_cast<ThreadIdType>(ranges));
+    threader->ParallelizeArray(0, ranges, run, nullptr);
   };
-  if (ranges == 1)
+  if (!m_SettingUp)
   {
-    run(0);
+    runInParallel(0, count);
     return;
   }
-  const MultiThreaderBase::Pointer threader = MultiThreaderBase::New();
-  threader->SetNumberOfWorkUnits(static_cast<ThreadIdType>(ranges));
-  threader->ParallelizeArray(0, ranges, run, nullptr);
+  // The items are independent: rounds of them give the same result as one run.
+  const SizeValueType itemsPerRound =
+    std::max<SizeValueType>(1, SetUpRoundVoxels / std::max<SizeValueType>(1, voxelsPerItem));
+  for (SizeValueType first = 0; first < count; first += itemsPerRound)
+  {
+    const SizeValueType end = std::min(count, first + itemsPerRound);
+    runInParallel(first, end);
+    SetUpCheckpoint(firstFraction +
+                    (endFraction - firstFraction) * static_cast<double>(end) / static_cast<double>(count));
+  }
 }
 
 template <typename TInputImage>

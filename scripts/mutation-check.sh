@@ -73,6 +73,10 @@
 #   opening-keeps-root-fins       a voxel only the dilation's last half voxel gives back stays beside a lost voxel
 #   opening-drops-beside-lost     every voxel beside a lost voxel of its label is lost, not only those the last half
 #                                 voxel gives back
+#   Bugs in the set-up's progress and abort (added 2026-11-30):
+#   setup-ignores-abort           the oracle's set-up reports its progress but goes on when the observer asks it to
+#                                 stop (the refinement then stops at its first check)
+#   setup-map-in-one-round        the nearest-interface map's passes run whole, without a check between rounds
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -225,7 +229,7 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   label-values-truncated cli-iso-ignored regularised-volumes-swapped planar-angle-two-corners
   gmsh-entity-box-upper-min interface-label-sides-swapped json-non-manifold-vertices-zero queue-heap-not-rebuilt
   queue-rebuild-skips-last-parent relabel-tie-to-first-weighed relabel-bound-stops-at-ties opening-keeps-root-fins
-  opening-drops-beside-lost)
+  opening-drops-beside-lost setup-ignores-abort setup-map-in-one-round)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -544,6 +548,14 @@ apply_mutation() {
       mutate "$tree/src/DelaunayRefinementLabelRegularization.cxx" \
         'fin.Keep(onlyByTheLastHalfVoxel, false);' \
         ''
+      ;;
+    setup-ignores-abort)
+      mutate "$tree/include/itkImageLabelOracle.hxx" \
+        'if (m_SettingUp && m_Mapping.keepGoing && !m_Mapping.keepGoing(fraction))' \
+        'if (m_SettingUp && m_Mapping.keepGoing && !m_Mapping.keepGoing(fraction) && false)'
+      ;;
+    setup-map-in-one-round)
+      mutate "$tree/include/itkImageLabelOracle.hxx" 'if (!m_SettingUp)' 'if (true)'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2

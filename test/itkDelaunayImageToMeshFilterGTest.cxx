@@ -43,6 +43,7 @@
 #include <cmath>
 #include <iomanip>
 #include <iostream>
+#include <iterator>
 #include <limits>
 #include <memory>
 #include <set>
@@ -1815,6 +1816,67 @@ TEST(Progress, AbortThrowsProcessAbortedPromptly)
   std::cout << "aborted " << latency << " s after the request\n";
   EXPECT_GE(latency, 0.0);
   EXPECT_LT(latency, 1.0);
+}
+
+/** Records every progress value the filter reports; with `abortAbove` set, requests the abort at the first value
+ * above it. */
+struct ProgressRecord
+{
+  std::vector<float> values;
+  float              abortAbove{ std::numeric_limits<float>::infinity() };
+  bool               requested{ false };
+
+  void
+  Watch(itk::ProcessObject & filter)
+  {
+    filter.AddObserver(itk::ProgressEvent(), [this, &filter](const itk::EventObject &) {
+      values.push_back(filter.GetProgress());
+      if (!requested && values.back() > abortAbove)
+      {
+        requested = true;
+        filter.AbortGenerateDataOn();
+      }
+    });
+  }
+};
+
+// The oracle's set-up (label image, regularisation, pinch removal, nearest-interface map) is most of the run when a
+// large image is meshed coarsely (bench/README.md, "At 1e3134b": 3.4 of 4 s on 38 M voxels at 8 mm). It reports
+// progress within the first tenth of the range, in steps that follow its passes and the rounds of a few million
+// voxels of the map's passes, and an abort requested there ends the run before the refinement starts.
+TEST(Progress, SetUpReportsProgressAndHonoursAbort)
+{
+  constexpr float                setUpShare = 0.1f;
+  const LabelImageType::SizeType size{ { 200, 190, 180 } };
+  LabelImageType::SpacingType    spacing;
+  spacing.Fill(1.0);
+  LabelImageType::PointType origin;
+  origin.Fill(0.0);
+  const auto image = MakeBallImage(size, spacing, origin, IdentityDirection(), { { 99.5, 94.2, 89.7 } }, 80.0);
+
+  auto           meshing = FilterFor(image.GetPointer(), 24.0);
+  ProgressRecord all;
+  all.Watch(*meshing);
+  meshing->Update();
+  ASSERT_TRUE(std::is_sorted(all.values.begin(), all.values.end()));
+  std::vector<float> setUp;
+  std::copy_if(all.values.begin(), all.values.end(), std::back_inserter(setUp), [setUpShare](float value) {
+    return value > 0.0f && value < setUpShare;
+  });
+  setUp.erase(std::unique(setUp.begin(), setUp.end()), setUp.end());
+  // The steps: the object's bounds, the selection, the regularisation, the pinch removal, and the map's marking and
+  // three passes over the ball's box (163^3 = 4.3 M voxels), each in three rounds of at most 2 M voxels.
+  EXPECT_GE(setUp.size(), 12u) << "the set-up reported " << setUp.size() << " distinct progress values";
+
+  // Past the pinch removal (0.048 of the range): within the nearest-interface map's passes.
+  auto           aborted = FilterFor(image.GetPointer(), 24.0);
+  ProgressRecord untilAbort;
+  untilAbort.abortAbove = 0.06f;
+  untilAbort.Watch(*aborted);
+  EXPECT_THROW(aborted->Update(), itk::ProcessAborted);
+  ASSERT_TRUE(untilAbort.requested) << "no progress reported past 0.06 during the set-up";
+  const float last = *std::max_element(untilAbort.values.begin(), untilAbort.values.end());
+  EXPECT_LT(last, setUpShare) << "the run went on to the refinement after the abort request";
 }
 
 // An aborted filter must be usable again: the next Update() meshes normally.
