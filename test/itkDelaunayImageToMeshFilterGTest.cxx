@@ -1865,7 +1865,7 @@ TEST(Progress, SetUpReportsProgressAndHonoursAbort)
   });
   setUp.erase(std::unique(setUp.begin(), setUp.end()), setUp.end());
   // The steps: the object's bounds, the selection, the regularisation, the pinch removal, and the map's marking and
-  // three passes over the ball's box (163^3 = 4.3 M voxels), each in three rounds of at most 2 M voxels.
+  // three passes over the ball's box (162^3 = 4.25 M voxels), each in three rounds of at most 2 M voxels.
   EXPECT_GE(setUp.size(), 12u) << "the set-up reported " << setUp.size() << " distinct progress values";
 
   // Past the pinch removal (0.048 of the range): within the nearest-interface map's passes.
