@@ -1744,17 +1744,35 @@ TEST(Interpolator, LabelImageGaussianInterpolatorGivesAValidMesh)
 
 // ---- Progress and abort -------------------------------------------------------------------------------------
 
+/** Records every progress value the filter reports; with `abortAbove` set, requests the abort at the first value
+ * above it. */
+struct ProgressRecord
+{
+  std::vector<float> values;
+  float              abortAbove{ std::numeric_limits<float>::infinity() };
+  bool               requested{ false };
+
+  void
+  Watch(itk::ProcessObject & filter)
+  {
+    filter.AddObserver(itk::ProgressEvent(), [this, &filter](const itk::EventObject &) {
+      values.push_back(filter.GetProgress());
+      if (!requested && values.back() > abortAbove)
+      {
+        requested = true;
+        filter.AbortGenerateDataOn();
+      }
+    });
+  }
+};
+
 TEST(Progress, MonotoneAndEndsAtOne)
 {
-  auto               filter = FilterFor(BrainMaskImage(), 4.0);
-  std::vector<float> progress;
-  auto               observer = itk::CStyleCommand::New();
-  observer->SetClientData(&progress);
-  observer->SetCallback([](itk::Object * caller, const itk::EventObject &, void * clientData) {
-    static_cast<std::vector<float> *>(clientData)->push_back(static_cast<itk::ProcessObject *>(caller)->GetProgress());
-  });
-  filter->AddObserver(itk::ProgressEvent(), observer);
+  auto           filter = FilterFor(BrainMaskImage(), 4.0);
+  ProgressRecord record;
+  record.Watch(*filter);
   filter->Update();
+  const std::vector<float> & progress = record.values;
   ASSERT_GE(progress.size(), 3u);
   EXPECT_GE(progress.front(), 0.0f);
   EXPECT_TRUE(std::is_sorted(progress.begin(), progress.end()));
@@ -1817,28 +1835,6 @@ TEST(Progress, AbortThrowsProcessAbortedPromptly)
   EXPECT_GE(latency, 0.0);
   EXPECT_LT(latency, 1.0);
 }
-
-/** Records every progress value the filter reports; with `abortAbove` set, requests the abort at the first value
- * above it. */
-struct ProgressRecord
-{
-  std::vector<float> values;
-  float              abortAbove{ std::numeric_limits<float>::infinity() };
-  bool               requested{ false };
-
-  void
-  Watch(itk::ProcessObject & filter)
-  {
-    filter.AddObserver(itk::ProgressEvent(), [this, &filter](const itk::EventObject &) {
-      values.push_back(filter.GetProgress());
-      if (!requested && values.back() > abortAbove)
-      {
-        requested = true;
-        filter.AbortGenerateDataOn();
-      }
-    });
-  }
-};
 
 // The oracle's set-up (label image, regularisation, pinch removal, nearest-interface map) is most of the run when a
 // large image is meshed coarsely (bench/README.md, "At 1e3134b": 3.4 of 4 s on 38 M voxels at 8 mm). It reports
