@@ -450,7 +450,9 @@ BallRows(double radius, const Vector3 & spacing, const std::array<long, 3> & lon
 
 /** One bit per voxel of a box, a row of 64-bit words for each (y, z): the opening works on whole rows, 64 voxels
  * to a word, so that its cost follows the number of rows rather than the number of voxels. Coordinates are the
- * box's own (0 .. size - 1). */
+ * box's own (0 .. size - 1). The words of a large box are on huge pages (LargeVector): a label's opening makes
+ * about ten sets of its box, each fresh memory, and with 4 KiB pages their page faults were a third of a whole run
+ * on a CT-like volume of 38 M voxels meshed coarsely (docs/algorithm.md, "Implementation"). */
 class BoxBits
 {
 public:
@@ -617,7 +619,7 @@ private:
 
   VoxelBox              m_Box;
   std::size_t           m_WordsPerRow;
-  std::vector<uint64_t> m_Words;
+  LargeVector<uint64_t> m_Words;
 };
 
 /** The voxels within the ball `rows` (centred on a voxel) of a voxel of `set`: rows along x grow a word at a time,
@@ -636,6 +638,7 @@ DilateByBall(BoxBits set, const std::vector<BallRow> & rows)
   }
   // Growing along x keeps empty rows empty: only the others are visited.
   std::vector<std::array<long, 2>> nonEmptyRows;
+  nonEmptyRows.reserve(static_cast<std::size_t>(box.size[1] * box.size[2]));
   for (long z = 0; z < box.size[2]; ++z)
   {
     for (long y = 0; y < box.size[1]; ++y)
