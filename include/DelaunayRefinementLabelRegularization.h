@@ -71,14 +71,15 @@ struct LabelRegularizationReport
  * `labels` is a dense grid, voxel (i, j, k) at labels[i + size[0] * (j + size[1] * k)], with `spacing` between
  * voxel centres along each axis (the direction of the axes does not matter: distances are kept by rotations).
  * Outside the grid is background. Deterministic: the result depends on the labels, spacing and radius only. A
- * radius of 0 changes nothing. `keepGoing` is asked between passes over the grid (a fraction of a second each);
- * when it says no, RefinementAborted is thrown and the labels are as they were. The labels' openings, the
- * component counts and the passes of the distance transform run on up to `numberOfThreads` threads; the result
- * does not depend on their number. A grid with more than 4294967295 runs of equal labels along x, or rows that
- * long, throws std::length_error (the counts are kept in 32 bits). */
+ * radius of 0 changes nothing. `keepGoing` is asked, on the calling thread, between passes over the grid and between
+ * the steps of each label's opening (a fraction of a second each on the largest images), with a rough fraction of the
+ * work done (0 to 1, never decreasing); when it says no, RefinementAborted is thrown and the labels are as they were.
+ * The labels' openings, the component counts and the passes of the distance transform run on up to `numberOfThreads`
+ * threads; the result does not depend on their number. A grid with more than 4294967295 runs of equal labels along x,
+ * or rows that long, throws std::length_error (the counts are kept in 32 bits). */
 DelaunayImageToMesh_EXPORT LabelRegularizationReport
 RegularizeLabels(Label * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing, double radius,
-                 const std::function<bool()> & keepGoing = {}, unsigned int numberOfThreads = 1);
+                 const std::function<bool(double)> & keepGoing = {}, unsigned int numberOfThreads = 1);
 
 /** A face-connected part of one label's voxels (FindUnmarkedParts). */
 struct LabelPart

@@ -122,8 +122,9 @@ ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
       { kept.GetSize()[0], kept.GetSize()[1], kept.GetSize()[2] },
       { spacing[0], spacing[1], spacing[2] },
       m_Mapping.regularizationRadius,
-      [this] {
-        SetUpCheckpoint(SetUpProgressAfter::selection);
+      [this](double done) {
+        SetUpCheckpoint(SetUpProgressAfter::selection +
+                        done * (SetUpProgressAfter::regularization - SetUpProgressAfter::selection));
         return true;
       },
       m_Mapping.numberOfThreads);

@@ -77,6 +77,10 @@
 #   setup-ignores-abort           the oracle's set-up reports its progress but goes on when the observer asks it to
 #                                 stop (the refinement then stops at its first check)
 #   setup-map-in-one-round        the nearest-interface map's passes run whole, without a check between rounds
+#   Bugs in the regularisation's progress (added 2026-11-30, second stop):
+#   regularization-progress-fixed the oracle reports one fraction through the whole regularisation (its own fractions
+#                                 dropped), so the progress stands still there
+#   openings-unchecked            the labels' openings neither report their progress nor check for an abort
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -213,6 +217,9 @@
 # TwoSpheres|CoreFidelity": skip-interface-r3 caught by 13 tests (KmeansTissues.GuaranteesHold and
 # EachTissueBoundaryIsAClosedManifold, the k-means baseline and fingerprint, HostileShapes TwoTissuesAlongAnEdge and
 # Speckle at 1 x spacing, seven randomized families), drop-smallest by 19 (as above).
+# The regularisation's two, run on 2026-11-30 with DELAUNAY_MUTATION_CTEST_ARGS="-R Progress|Regulariz|Abort" (29
+# tests): regularization-progress-fixed caught by Progress.RegularisationMovesTheProgressAndHonoursAbort,
+# openings-unchecked by that test and LabelRegularization.ReportsItsProgressAndStopsWithinTheOpenings.
 set -euo pipefail
 
 repository=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -229,7 +236,8 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   label-values-truncated cli-iso-ignored regularised-volumes-swapped planar-angle-two-corners
   gmsh-entity-box-upper-min interface-label-sides-swapped json-non-manifold-vertices-zero queue-heap-not-rebuilt
   queue-rebuild-skips-last-parent relabel-tie-to-first-weighed relabel-bound-stops-at-ties opening-keeps-root-fins
-  opening-drops-beside-lost setup-ignores-abort setup-map-in-one-round)
+  opening-drops-beside-lost setup-ignores-abort setup-map-in-one-round regularization-progress-fixed
+  openings-unchecked)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -556,6 +564,16 @@ apply_mutation() {
       ;;
     setup-map-in-one-round)
       mutate "$tree/include/itkImageLabelOracle.hxx" 'if (!m_SettingUp)' 'if (true)'
+      ;;
+    regularization-progress-fixed)
+      mutate "$tree/include/itkImageLabelOracle.hxx" \
+        'done * (SetUpProgressAfter::regularization - SetUpProgressAfter::selection)' \
+        '0.0 * done'
+      ;;
+    openings-unchecked)
+      mutate "$tree/src/DelaunayRefinementLabelRegularization.cxx" \
+        'if (std::this_thread::get_id() != m_CallingThread)' \
+        'if (true)'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2

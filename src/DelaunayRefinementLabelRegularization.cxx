@@ -37,6 +37,7 @@
 #include <numeric>
 #include <optional>
 #include <stdexcept>
+#include <thread>
 
 namespace delaunay_refinement
 {
@@ -1012,7 +1013,7 @@ class LabelRegularizer
 {
 public:
   LabelRegularizer(Label * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing, double radius,
-                   const std::function<bool()> & keepGoing, unsigned int numberOfThreads)
+                   const std::function<bool(double)> & keepGoing, unsigned int numberOfThreads)
     : m_Labels(labels)
     , m_KeepGoing(keepGoing)
     , m_NumberOfThreads(std::max(1U, numberOfThreads))
@@ -1036,8 +1037,10 @@ public:
   {
     LabelRegularizationReport report;
     report.radius = m_Radius;
+    m_CallingThread = std::this_thread::get_id();
     Checkpoint();
     LabelComponents before(m_Labels, m_Size, m_NumberOfThreads);
+    ReachStage(ProgressAfter::componentsBefore);
     for (const auto & [label, statistics] : before.PerLabel())
     {
       LabelRegularizationChange & change = ChangeOf(report, label);
@@ -1064,6 +1067,7 @@ public:
     }
     before.ForEachComponentLostWhole([&changed](std::size_t offset) { return !changed[offset]; },
                                      [&report](Label label) { ++ChangeOf(report, label).componentsRemoved; });
+    ReachStage(ProgressAfter::nearestSurvivors);
     for (const auto & [offset, label] : changes)
     {
       m_Labels[offset] = label;
@@ -1110,14 +1114,53 @@ private:
     return changes;
   }
 
-  /** Throws RefinementAborted when asked to stop. The labels change only at the very end, so they are intact. */
+  /** Rough fractions of the work, for the progress reported to `keepGoing`: the component count before, the
+   * openings (in proportion to their boxes' voxels, which their passes follow), the nearest survivors' search and
+   * transform, the component count after. Measured on the CT-like probe of bench/README.md ("At 1161bcd"): the
+   * openings are most of it. */
+  struct ProgressAfter
+  {
+    static constexpr double componentsBefore = 0.05;
+    static constexpr double openings = 0.85;
+    static constexpr double nearestSurvivors = 0.95;
+  };
+
+  /** Throws RefinementAborted when asked to stop, and otherwise reports the fraction of the work done, never less
+   * than before. Only on the calling thread (an observer may not expect another). The labels change only at the very
+   * end, so they are intact. */
   void
   Checkpoint() const
   {
-    if (m_KeepGoing && !m_KeepGoing())
+    m_Reported = std::max(m_Reported, m_Stage);
+    if (m_KeepGoing && !m_KeepGoing(m_Reported))
     {
       throw RefinementAborted("Label regularisation aborted by the progress observer");
     }
+  }
+
+  /** The work is done up to `fraction`; checked there. */
+  void
+  ReachStage(double fraction) const
+  {
+    m_Stage = fraction;
+    Checkpoint();
+  }
+
+  /** Within the openings: the labels opened so far, and `partOfOwn` of the one the calling thread opens; a check
+   * only on the calling thread (the openings run on the threads, the largest box first, and on a large image one
+   * label's opening is a fraction of a second). */
+  void
+  OpeningCheckpoint(double partOfOwn, std::size_t ownBoxVoxels) const
+  {
+    if (std::this_thread::get_id() != m_CallingThread)
+    {
+      return;
+    }
+    const double opened = static_cast<double>(m_OpenedBoxVoxels.load()) + partOfOwn * static_cast<double>(ownBoxVoxels);
+    m_Stage =
+      ProgressAfter::componentsBefore + (ProgressAfter::openings - ProgressAfter::componentsBefore) *
+                                          std::min(1.0, opened / std::max(1.0, static_cast<double>(m_BoxVoxelsToOpen)));
+    Checkpoint();
   }
 
   static LabelRegularizationChange &
@@ -1269,8 +1312,11 @@ private:
   {
     // Each set is made in place from the one before where it can: every copy of a box's bits is fresh memory, and
     // fresh memory costs a page fault per page (DelaunayRefinementLargeBuffers.h).
-    BoxBits voxels = VoxelsOf(label, box);
+    const std::size_t boxVoxels = box.NumberOfVoxels();
+    BoxBits           voxels = VoxelsOf(label, box);
+    OpeningCheckpoint(0.1, boxVoxels);
     BoxBits eroded = DilateByBall(OuterBoundary(voxels), erosionBall);
+    OpeningCheckpoint(0.4, boxVoxels);
     eroded.Keep(voxels, false);
     if (!eroded.Any())
     {
@@ -1283,7 +1329,8 @@ private:
     notKept.Invert();
     const BoxBits survivorsAtTheEdge = OuterBoundary(notKept);
     const BoxBits givenBack = DilateByBall(survivorsAtTheEdge, dilationBall);
-    BoxBits       onlyByTheLastHalfVoxel = eroded;
+    OpeningCheckpoint(0.7, boxVoxels);
+    BoxBits onlyByTheLastHalfVoxel = eroded;
     onlyByTheLastHalfVoxel.Keep(givenBack, false);
     BoxBits & lost = eroded;
     lost.Keep(givenBack, true);
@@ -1337,13 +1384,21 @@ private:
     // offsets, eight bytes a voxel: the lists were as long as the removed voxels (2.3 million on the k-means tissues
     // resampled to 1 mm at δ = 6 mm), and copied into one sorted list after, all of it fresh memory.
     std::vector<std::optional<BoxBits>> lostOfLabel(toOpen.size());
+    m_BoxVoxelsToOpen = 0;
+    for (const auto & [label, box] : toOpen)
+    {
+      m_BoxVoxelsToOpen += box.NumberOfVoxels();
+    }
+    m_OpenedBoxVoxels = 0;
     detail::ForEachIndexInParallel(
       toOpen.size(),
       m_NumberOfThreads,
       [&](std::size_t index) {
         lostOfLabel[index] = OpenLabel(toOpen[index].first, toOpen[index].second, erosionBall, dilationBall);
+        m_OpenedBoxVoxels += toOpen[index].second.NumberOfVoxels();
       },
-      [this] { Checkpoint(); });
+      [this] { OpeningCheckpoint(0.0, 0); });
+    ReachStage(ProgressAfter::openings);
     // Flagged here, not by the labels' openings on the threads, since neighbouring voxels share a word. A voxel has
     // one label, so no voxel is counted twice.
     VoxelFlags  removed(m_NumberOfVoxels);
@@ -1420,7 +1475,8 @@ private:
     {
       if ((index & 0xffff) == 0xffff)
       {
-        Checkpoint();
+        ReachStage(ProgressAfter::openings + (ProgressAfter::nearestSurvivors - ProgressAfter::openings) * 0.5 *
+                                               static_cast<double>(index) / static_cast<double>(removedVoxels.size()));
       }
       // Every 4,096 voxels, the tries so far are extrapolated to all the voxels: the transform's box is about the
       // same whichever voxels are left to it, so searching on when the budget will run out anyway is wasted.
@@ -1617,7 +1673,13 @@ private:
         }
       }
     }
-    survivors.Compute([this] { Checkpoint(); }, m_NumberOfThreads);
+    // The transform's three passes: the second half of the nearest survivors' share.
+    survivors.Compute(
+      [this, pass = 0]() mutable {
+        ReachStage(ProgressAfter::openings + (ProgressAfter::nearestSurvivors - ProgressAfter::openings) *
+                                               (0.5 + static_cast<double>(pass++) / 6.0));
+      },
+      m_NumberOfThreads);
     // Whether every survivor found is nearer than the box's cut sides, on the threads; then the survivors, in order.
     std::atomic<bool> allInBox{ true };
     detail::ForEachRangeInParallel(
@@ -1681,15 +1743,23 @@ private:
    * against 75 ns), so searches that end in the transform cost it a fifth more at most. */
   static constexpr std::size_t SearchTriesPerBoxVoxel = 4;
 
-  Label *                       m_Labels;
-  const std::function<bool()> & m_KeepGoing;
-  std::size_t                   m_NumberOfThreads;
-  std::array<std::size_t, 3>    m_Size;
-  Vector3                       m_Spacing;
-  double                        m_Radius;
-  double                        m_Reach;
-  double                        m_DilationReach;
-  std::size_t                   m_NumberOfVoxels;
+  Label *                             m_Labels;
+  const std::function<bool(double)> & m_KeepGoing;
+  /** The thread that called Run(), the only one that reports progress. */
+  std::thread::id m_CallingThread;
+  /** Where the work is (ProgressAfter), and the most reported so far. */
+  mutable double m_Stage{ 0.0 };
+  mutable double m_Reported{ 0.0 };
+  /** The voxels of the boxes the openings work on, and of those opened so far (on any thread). */
+  mutable std::size_t              m_BoxVoxelsToOpen{ 0 };
+  mutable std::atomic<std::size_t> m_OpenedBoxVoxels{ 0 };
+  std::size_t                      m_NumberOfThreads;
+  std::array<std::size_t, 3>       m_Size;
+  Vector3                          m_Spacing;
+  double                           m_Radius;
+  double                           m_Reach;
+  double                           m_DilationReach;
+  std::size_t                      m_NumberOfVoxels;
 };
 } // namespace
 
@@ -2066,7 +2136,7 @@ FindUnmarkedParts(const Label * labels, const std::array<std::size_t, 3> & size,
 
 LabelRegularizationReport
 RegularizeLabels(Label * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing, double radius,
-                 const std::function<bool()> & keepGoing, unsigned int numberOfThreads)
+                 const std::function<bool(double)> & keepGoing, unsigned int numberOfThreads)
 {
   return LabelRegularizer(labels, size, spacing, radius, keepGoing, numberOfThreads).Run();
 }

@@ -77,9 +77,9 @@ ForEachRangeInParallel(std::size_t count, std::size_t threads, std::size_t minim
 
 /** Calls work(index) for every index in [0, count), on up to `threads` threads that each take the next index when
  * they finish one (for pieces of work of very different sizes); the calling thread takes part and calls
- * `onCallingThread()` before each index it takes (a check for an abort, which must not run elsewhere): when that
- * throws, no index is started any more and the exception is rethrown once every thread has ended. The calls of
- * work must not depend on each other. */
+ * `onCallingThread()` before each index it takes (a check for an abort, which must not run elsewhere): when that or
+ * a call of work throws, no index is started any more (an abort inside one piece stops the others' queue too) and
+ * the exception is rethrown once every thread has ended. The calls of work must not depend on each other. */
 template <typename TWork, typename TOnCallingThread>
 void
 ForEachIndexInParallel(std::size_t count, std::size_t threads, const TWork & work,
@@ -90,19 +90,19 @@ ForEachIndexInParallel(std::size_t count, std::size_t threads, const TWork & wor
   ForEachRangeInParallel(used, used, 1, [&](std::size_t range, std::size_t) {
     for (std::size_t index = next++; index < count; index = next++)
     {
-      if (range == 0)
+      try
       {
-        try
+        if (range == 0)
         {
           onCallingThread();
         }
-        catch (...)
-        {
-          next = count;
-          throw;
-        }
+        work(index);
       }
-      work(index);
+      catch (...)
+      {
+        next = count;
+        throw;
+      }
     }
   });
 }

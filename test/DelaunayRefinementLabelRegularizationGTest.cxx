@@ -465,8 +465,85 @@ TEST(LabelRegularization, AbortLeavesTheLabelsAsTheyWere)
   std::mt19937       random(11);
   const Grid         grid = RandomGrid(random, { { 40, 6, 6 } }, { { 1.0, 1.0, 1.0 } });
   std::vector<Label> labels = grid.labels;
-  EXPECT_THROW(RegularizeLabels(labels.data(), grid.size, grid.spacing, 1.5, [] { return false; }), RefinementAborted);
+  EXPECT_THROW(RegularizeLabels(labels.data(), grid.size, grid.spacing, 1.5, [](double) { return false; }),
+               RefinementAborted);
   EXPECT_EQ(labels, grid.labels);
+}
+
+/** Speckle of three labels on a grid with a ball of label 1: every label's opening has work to do, and the speckle's
+ * voxels take their nearest survivor's label. */
+std::vector<Label>
+SpeckleAroundABall(const Size & size, uint32_t seed)
+{
+  std::vector<Label> labels(size[0] * size[1] * size[2], BackgroundLabel);
+  std::mt19937       random(seed);
+  std::size_t        voxel = 0;
+  for (std::size_t k = 0; k < size[2]; ++k)
+  {
+    for (std::size_t j = 0; j < size[1]; ++j)
+    {
+      for (std::size_t i = 0; i < size[0]; ++i, ++voxel)
+      {
+        const double di = static_cast<double>(i) - 0.5 * static_cast<double>(size[0]);
+        const double dj = static_cast<double>(j) - 0.5 * static_cast<double>(size[1]);
+        const double dk = static_cast<double>(k) - 0.5 * static_cast<double>(size[2]);
+        labels[voxel] = di * di + dj * dj + dk * dk < 400.0 ? 1 : static_cast<Label>(random() % 3);
+      }
+    }
+  }
+  return labels;
+}
+
+// The progress the regularisation reports: a fraction of its work, in [0, 1], never decreasing, moving through its
+// steps and within the labels' openings (on a large image one label's opening is a fraction of a second, and the
+// command-line bar sat still through all of them when only the end of each step was reported); and an abort asked
+// for within the openings stops the run there, the labels as they were.
+TEST(LabelRegularization, ReportsItsProgressAndStopsWithinTheOpenings)
+{
+  const Size          size{ { 60, 56, 52 } };
+  const Vector3       spacing{ { 1.0, 0.9, 1.1 } };
+  const auto          original = SpeckleAroundABall(size, 20261130);
+  std::vector<Label>  labels = original;
+  std::vector<double> fractions;
+  RegularizeLabels(
+    labels.data(),
+    size,
+    spacing,
+    1.5,
+    [&fractions](double fraction) {
+      fractions.push_back(fraction);
+      return true;
+    },
+    1);
+  ASSERT_FALSE(fractions.empty());
+  EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
+  EXPECT_GE(fractions.front(), 0.0);
+  EXPECT_LE(fractions.back(), 1.0);
+  std::vector<double> distinct = fractions;
+  distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+  // Four labels (the background included), each opening reporting after three of its steps, and the steps around.
+  EXPECT_GE(distinct.size(), 12U) << "the regularisation reported " << distinct.size() << " distinct fractions";
+  // Within a label's opening: the openings lie between the component count (0.05) and the nearest survivors (0.85).
+  const std::size_t insideOpenings =
+    std::count_if(distinct.begin(), distinct.end(), [](double fraction) { return fraction > 0.05 && fraction < 0.85; });
+  EXPECT_GE(insideOpenings, 8U);
+
+  std::vector<Label>  aborted = original;
+  std::vector<double> untilAbort;
+  EXPECT_THROW(RegularizeLabels(
+                 aborted.data(),
+                 size,
+                 spacing,
+                 1.5,
+                 [&untilAbort](double fraction) {
+                   untilAbort.push_back(fraction);
+                   return fraction < 0.2;
+                 },
+                 2),
+               RefinementAborted);
+  EXPECT_EQ(aborted, original);
+  ASSERT_FALSE(untilAbort.empty());
+  EXPECT_LT(untilAbort.back(), 0.85) << "the abort was seen only after the openings";
 }
 
 TEST(LabelRegularization, TheNumberOfThreadsDoesNotChangeTheResult)

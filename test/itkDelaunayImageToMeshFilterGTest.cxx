@@ -1875,6 +1875,44 @@ TEST(Progress, SetUpReportsProgressAndHonoursAbort)
   EXPECT_LT(last, setUpShare) << "the run went on to the refinement after the abort request";
 }
 
+// The regularisation's share of the set-up (0.006 to 0.04 of the range, SetUpProgressAfter) moves while the labels
+// are opened, and an abort asked for there ends the run before the regularisation does. Before, the regularisation
+// reported the selection's fraction at each of its checks and the command-line bar sat still through it (0.3 s on
+// the CT-like probe of bench/README.md, "At 1161bcd").
+TEST(Progress, RegularisationMovesTheProgressAndHonoursAbort)
+{
+  constexpr float                regularisationStart = 0.006f;
+  constexpr float                regularisationEnd = 0.04f;
+  const LabelImageType::SizeType size{ { 160, 150, 140 } };
+  LabelImageType::SpacingType    spacing;
+  spacing.Fill(1.0);
+  LabelImageType::PointType origin;
+  origin.Fill(0.0);
+  const auto image = MakeBallImage(size, spacing, origin, IdentityDirection(), { { 79.5, 74.2, 69.7 } }, 62.0);
+
+  auto           meshing = FilterFor(image.GetPointer(), 24.0);
+  ProgressRecord all;
+  all.Watch(*meshing);
+  meshing->Update();
+  std::vector<float> regularisation;
+  std::copy_if(all.values.begin(), all.values.end(), std::back_inserter(regularisation), [=](float value) {
+    return value > regularisationStart && value < regularisationEnd;
+  });
+  regularisation.erase(std::unique(regularisation.begin(), regularisation.end()), regularisation.end());
+  // The component count, and the steps of the labels' openings that run on the calling thread.
+  EXPECT_GE(regularisation.size(), 4u) << "the regularisation reported " << regularisation.size()
+                                       << " distinct progress values";
+
+  auto           aborted = FilterFor(image.GetPointer(), 24.0);
+  ProgressRecord untilAbort;
+  untilAbort.abortAbove = 0.008f;
+  untilAbort.Watch(*aborted);
+  EXPECT_THROW(aborted->Update(), itk::ProcessAborted);
+  ASSERT_TRUE(untilAbort.requested) << "no progress reported past 0.008 during the regularisation";
+  const float last = *std::max_element(untilAbort.values.begin(), untilAbort.values.end());
+  EXPECT_LT(last, regularisationEnd) << "the regularisation ran to its end after the abort request";
+}
+
 // An aborted filter must be usable again: the next Update() meshes normally.
 TEST(Progress, FilterRunsAgainAfterAnAbort)
 {
