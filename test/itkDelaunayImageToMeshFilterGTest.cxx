@@ -1836,43 +1836,71 @@ TEST(Progress, AbortThrowsProcessAbortedPromptly)
   EXPECT_LT(latency, 1.0);
 }
 
+/** A ball of label 1 of `radius` mm near the middle of a grid of `size` voxels of 1 mm at the origin: large enough
+ * that the set-up's passes over its voxels take rounds and its steps report progress. */
+LabelImageType::Pointer
+BallOnAMillimetreGrid(const LabelImageType::SizeType & size, double radius)
+{
+  LabelImageType::SpacingType spacing;
+  spacing.Fill(1.0);
+  LabelImageType::PointType origin;
+  origin.Fill(0.0);
+  const std::array<double, 3> offCentre{ { 0.5, 0.8, 0.3 } };
+  std::array<double, 3>       centre{};
+  for (unsigned int axis = 0; axis < 3; ++axis)
+  {
+    centre[axis] = 0.5 * static_cast<double>(size[axis]) - offCentre[axis];
+  }
+  return MakeBallImage(size, spacing, origin, IdentityDirection(), centre, radius);
+}
+
+/** The distinct progress values a whole run of the filter on `image` at δ = `delta` reports strictly between `low`
+ * and `high`; the run's values must never decrease. */
+std::vector<float>
+DistinctProgressBetween(const LabelImageType * image, double delta, float low, float high)
+{
+  auto           meshing = FilterFor(image, delta);
+  ProgressRecord all;
+  all.Watch(*meshing);
+  meshing->Update();
+  EXPECT_TRUE(std::is_sorted(all.values.begin(), all.values.end()));
+  std::vector<float> between;
+  std::copy_if(all.values.begin(), all.values.end(), std::back_inserter(between), [=](float value) {
+    return value > low && value < high;
+  });
+  between.erase(std::unique(between.begin(), between.end()), between.end());
+  return between;
+}
+
+/** The last progress value of a run on `image` at δ = `delta` that asks for an abort as soon as the progress passes
+ * `abortAbove`; the run must end with ProcessAborted, and report a value past the threshold. */
+float
+LastProgressOfARunAbortedAbove(const LabelImageType * image, double delta, float abortAbove)
+{
+  auto           aborted = FilterFor(image, delta);
+  ProgressRecord untilAbort;
+  untilAbort.abortAbove = abortAbove;
+  untilAbort.Watch(*aborted);
+  EXPECT_THROW(aborted->Update(), itk::ProcessAborted);
+  EXPECT_TRUE(untilAbort.requested) << "no progress reported past " << abortAbove;
+  return untilAbort.values.empty() ? 0.0f : *std::max_element(untilAbort.values.begin(), untilAbort.values.end());
+}
+
 // The oracle's set-up (label image, regularisation, pinch removal, nearest-interface map) is most of the run when a
 // large image is meshed coarsely (bench/README.md, "At 1e3134b": 3.4 of 4 s on 38 M voxels at 8 mm). It reports
 // progress within the first tenth of the range, in steps that follow its passes and the rounds of a few million
 // voxels of the map's passes, and an abort requested there ends the run before the refinement starts.
 TEST(Progress, SetUpReportsProgressAndHonoursAbort)
 {
-  constexpr float                setUpShare = 0.1f;
-  const LabelImageType::SizeType size{ { 200, 190, 180 } };
-  LabelImageType::SpacingType    spacing;
-  spacing.Fill(1.0);
-  LabelImageType::PointType origin;
-  origin.Fill(0.0);
-  const auto image = MakeBallImage(size, spacing, origin, IdentityDirection(), { { 99.5, 94.2, 89.7 } }, 80.0);
-
-  auto           meshing = FilterFor(image.GetPointer(), 24.0);
-  ProgressRecord all;
-  all.Watch(*meshing);
-  meshing->Update();
-  ASSERT_TRUE(std::is_sorted(all.values.begin(), all.values.end()));
-  std::vector<float> setUp;
-  std::copy_if(all.values.begin(), all.values.end(), std::back_inserter(setUp), [setUpShare](float value) {
-    return value > 0.0f && value < setUpShare;
-  });
-  setUp.erase(std::unique(setUp.begin(), setUp.end()), setUp.end());
+  constexpr float setUpShare = 0.1f;
+  const auto      image = BallOnAMillimetreGrid({ { 200, 190, 180 } }, 80.0);
   // The steps: the object's bounds, the selection, the regularisation, the pinch removal, and the map's marking and
   // three passes over the ball's box (162^3 = 4.25 M voxels), each in three rounds of at most 2 M voxels.
+  const std::vector<float> setUp = DistinctProgressBetween(image.GetPointer(), 24.0, 0.0f, setUpShare);
   EXPECT_GE(setUp.size(), 12u) << "the set-up reported " << setUp.size() << " distinct progress values";
-
   // Past the pinch removal (0.048 of the range): within the nearest-interface map's passes.
-  auto           aborted = FilterFor(image.GetPointer(), 24.0);
-  ProgressRecord untilAbort;
-  untilAbort.abortAbove = 0.06f;
-  untilAbort.Watch(*aborted);
-  EXPECT_THROW(aborted->Update(), itk::ProcessAborted);
-  ASSERT_TRUE(untilAbort.requested) << "no progress reported past 0.06 during the set-up";
-  const float last = *std::max_element(untilAbort.values.begin(), untilAbort.values.end());
-  EXPECT_LT(last, setUpShare) << "the run went on to the refinement after the abort request";
+  EXPECT_LT(LastProgressOfARunAbortedAbove(image.GetPointer(), 24.0, 0.06f), setUpShare)
+    << "the run went on to the refinement after the abort request";
 }
 
 // The regularisation's share of the set-up (0.006 to 0.04 of the range, SetUpProgressAfter) moves while the labels
@@ -1881,36 +1909,16 @@ TEST(Progress, SetUpReportsProgressAndHonoursAbort)
 // the CT-like probe of bench/README.md, "At 1161bcd").
 TEST(Progress, RegularisationMovesTheProgressAndHonoursAbort)
 {
-  constexpr float                regularisationStart = 0.006f;
-  constexpr float                regularisationEnd = 0.04f;
-  const LabelImageType::SizeType size{ { 160, 150, 140 } };
-  LabelImageType::SpacingType    spacing;
-  spacing.Fill(1.0);
-  LabelImageType::PointType origin;
-  origin.Fill(0.0);
-  const auto image = MakeBallImage(size, spacing, origin, IdentityDirection(), { { 79.5, 74.2, 69.7 } }, 62.0);
-
-  auto           meshing = FilterFor(image.GetPointer(), 24.0);
-  ProgressRecord all;
-  all.Watch(*meshing);
-  meshing->Update();
-  std::vector<float> regularisation;
-  std::copy_if(all.values.begin(), all.values.end(), std::back_inserter(regularisation), [=](float value) {
-    return value > regularisationStart && value < regularisationEnd;
-  });
-  regularisation.erase(std::unique(regularisation.begin(), regularisation.end()), regularisation.end());
+  constexpr float regularisationStart = 0.006f;
+  constexpr float regularisationEnd = 0.04f;
+  const auto      image = BallOnAMillimetreGrid({ { 160, 150, 140 } }, 62.0);
   // The component count, and the steps of the labels' openings that run on the calling thread.
+  const std::vector<float> regularisation =
+    DistinctProgressBetween(image.GetPointer(), 24.0, regularisationStart, regularisationEnd);
   EXPECT_GE(regularisation.size(), 4u) << "the regularisation reported " << regularisation.size()
                                        << " distinct progress values";
-
-  auto           aborted = FilterFor(image.GetPointer(), 24.0);
-  ProgressRecord untilAbort;
-  untilAbort.abortAbove = 0.008f;
-  untilAbort.Watch(*aborted);
-  EXPECT_THROW(aborted->Update(), itk::ProcessAborted);
-  ASSERT_TRUE(untilAbort.requested) << "no progress reported past 0.008 during the regularisation";
-  const float last = *std::max_element(untilAbort.values.begin(), untilAbort.values.end());
-  EXPECT_LT(last, regularisationEnd) << "the regularisation ran to its end after the abort request";
+  EXPECT_LT(LastProgressOfARunAbortedAbove(image.GetPointer(), 24.0, 0.008f), regularisationEnd)
+    << "the regularisation ran to its end after the abort request";
 }
 
 // An aborted filter must be usable again: the next Update() meshes normally.
