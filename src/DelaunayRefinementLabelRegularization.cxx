@@ -1125,24 +1125,23 @@ private:
     static constexpr double nearestSurvivors = 0.95;
   };
 
-  /** Throws RefinementAborted when asked to stop, and otherwise reports the fraction of the work done, never less
-   * than before. Only on the calling thread (an observer may not expect another). The labels change only at the very
-   * end, so they are intact. */
+  /** Throws RefinementAborted when asked to stop, and otherwise reports the fraction of the work done so far. Only on
+   * the calling thread (an observer may not expect another). The labels change only at the very end, so they are
+   * intact. */
   void
   Checkpoint() const
   {
-    m_Reported = std::max(m_Reported, m_Stage);
     if (m_KeepGoing && !m_KeepGoing(m_Reported))
     {
       throw RefinementAborted("Label regularisation aborted by the progress observer");
     }
   }
 
-  /** The work is done up to `fraction`; checked there. */
+  /** The work is done up to `fraction` (never less than reported before); checked there. */
   void
   ReachStage(double fraction) const
   {
-    m_Stage = fraction;
+    m_Reported = std::max(m_Reported, fraction);
     Checkpoint();
   }
 
@@ -1157,10 +1156,9 @@ private:
       return;
     }
     const double opened = static_cast<double>(m_OpenedBoxVoxels.load()) + partOfOwn * static_cast<double>(ownBoxVoxels);
-    m_Stage =
-      ProgressAfter::componentsBefore + (ProgressAfter::openings - ProgressAfter::componentsBefore) *
-                                          std::min(1.0, opened / std::max(1.0, static_cast<double>(m_BoxVoxelsToOpen)));
-    Checkpoint();
+    ReachStage(ProgressAfter::componentsBefore +
+               (ProgressAfter::openings - ProgressAfter::componentsBefore) *
+                 std::min(1.0, opened / std::max(1.0, static_cast<double>(m_BoxVoxelsToOpen))));
   }
 
   static LabelRegularizationChange &
@@ -1747,8 +1745,7 @@ private:
   const std::function<bool(double)> & m_KeepGoing;
   /** The thread that called Run(), the only one that reports progress. */
   std::thread::id m_CallingThread;
-  /** Where the work is (ProgressAfter), and the most reported so far. */
-  mutable double m_Stage{ 0.0 };
+  /** The fraction of the work reported so far (ProgressAfter). */
   mutable double m_Reported{ 0.0 };
   /** The voxels of the boxes the openings work on, and of those opened so far (on any thread). */
   mutable std::size_t              m_BoxVoxelsToOpen{ 0 };

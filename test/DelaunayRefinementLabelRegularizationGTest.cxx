@@ -523,7 +523,8 @@ TEST(LabelRegularization, ReportsItsProgressAndStopsWithinTheOpenings)
   distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
   // Four labels (the background included), each opening reporting after three of its steps, and the steps around.
   EXPECT_GE(distinct.size(), 12U) << "the regularisation reported " << distinct.size() << " distinct fractions";
-  // Within a label's opening: the openings lie between the component count (0.05) and the nearest survivors (0.85).
+  // Within a label's opening: the openings lie between the component count (0.05) and the nearest survivors' step,
+  // which begins at 0.85.
   const std::size_t insideOpenings =
     std::count_if(distinct.begin(), distinct.end(), [](double fraction) { return fraction > 0.05 && fraction < 0.85; });
   EXPECT_GE(insideOpenings, 8U);
