@@ -30,10 +30,6 @@
 
 #include <CLI/CLI.hpp>
 
-#if defined(__GLIBC__)
-#  include <malloc.h>
-#endif
-
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
@@ -50,6 +46,11 @@
 #include <string>
 #include <utility>
 #include <vector>
+
+// Any standard header defines __GLIBC__ where the C library is glibc.
+#if defined(__GLIBC__)
+#  include <malloc.h>
+#endif
 
 #if defined(_WIN32)
 #  include <io.h>
@@ -632,11 +633,11 @@ Run(int argc, char * argv[])
  * block of 128 KiB or more is mapped fresh and unmapped when freed, and the top of the heap is trimmed, so each of
  * the set-up's short-lived buffers (a label's sets of bits, the label components' runs) and the label image, which
  * could reuse what the image reader freed, costs a page fault per 4 KiB page on its first write. On a virtual machine
- * a fault costs microseconds (14 µs measured here), which made the faults a fifth of a coarse run on a 1 M-voxel
- * image. Blocks below 32 MiB (glibc's largest automatic threshold) now come from the heap, which is never trimmed:
- * the program ends after one mesh, and its peak is what the system sees either way. Larger buffers are still mapped
- * (the per-voxel buffers, on huge pages; DelaunayRefinementLargeBuffers.h). A setting of this program, not of the
- * filter: a library must not change how its host process allocates. */
+ * a fault costs microseconds (14 µs measured here), and the faults were a sixth of a coarse run on a 1 M-voxel image.
+ * Blocks below 32 MiB (glibc's largest automatic threshold) now come from the heap, which is never trimmed: the
+ * program ends after one mesh, and its peak grows only by what the heap keeps (a few megabytes; bench/README.md, "At
+ * 12c3d99"). Larger buffers are still mapped (the per-voxel buffers, on huge pages; DelaunayRefinementLargeBuffers.h).
+ * A setting of this program, not of the filter: a library must not change how its host process allocates. */
 void
 KeepFreedMemoryInTheProcess()
 {
