@@ -706,7 +706,10 @@ private:
   {
     NonManifoldPlaces places = RelabelAndFindNonManifoldPlaces();
     const std::size_t placesFound = places.places.size();
-    unsigned int      roundsWithMorePlaces = 0;
+    // How far above placesFound a count of places is "more" (below).
+    const double fluctuation =
+      std::max(std::sqrt(static_cast<double>(placesFound)), PlacesABallMayLeaveBesideTheOneItMends);
+    unsigned int roundsWithMorePlaces = 0;
     if (!m_RegularizationInsertionBudget)
     {
       m_RegularizationInsertionBudget =
@@ -739,8 +742,6 @@ private:
           m_RegularizationInsertions > *m_RegularizationInsertionBudget;
       }
       places = RelabelAndFindNonManifoldPlaces();
-      const double fluctuation =
-        std::max(std::sqrt(static_cast<double>(placesFound)), PlacesABallMayLeaveBesideTheOneItMends);
       roundsWithMorePlaces =
         static_cast<double>(places.places.size()) > placesFound + fluctuation ? roundsWithMorePlaces + 1 : 0;
       // Regularisation rounds that leave more places than the repair began with, twice in a row, are making things
@@ -748,9 +749,9 @@ private:
       // count at the start, the scale of its fluctuation, and beyond two at least: a ball that mends a place can leave
       // one or two beside it, which a few places feel and many do not (SaltAndPepper 2075775, whose boundary is
       // promised a manifold: 6 places, then 7 and 7, and the rounds stopped; 6, 2 and 0 came next; SaltAndPepper
-      // 2164423: 3 places, then 5 and 5, below the square root's margin; 0 came next). The budget of insertions bounds
-      // what the rounds cost either way. One such round is allowed: a ball that cuts a pinch can leave a smaller one
-      // beside it, which the next round's larger ball settles (SheetsAndLines 3029473 of the randomized suite: 2
+      // 2164423: 3 places, then 5 and 5, beyond the square root but within two; 0 came next). The budget of insertions
+      // bounds what the rounds cost either way. One such round is allowed: a ball that cuts a pinch can leave a smaller
+      // one beside it, which the next round's larger ball settles (SheetsAndLines 3029473 of the randomized suite: 2
       // places, 3 after the δ balls, none after the 2δ balls). Measured without a stop: Blobs 1000030 (ρ = 1, δ = 0.64
       // voxel) began with 127 places and kept 120 to 260 through all 20 rounds, five times the run's time for a worse
       // mesh; the bench images' rounds only ever decrease.
