@@ -87,6 +87,53 @@ public:
     return state.LabelBeyondFacet(cell, boundaryFacets[0]);
   }
 
+  /** The label a tissue's tetrahedron flat to rounding takes as a cap: LabelAsCap's, or else the one label other
+   * than its own beyond two or more of its facets (the smaller of two such), when its other facets, which become
+   * that label's boundary, keep the boundary's bounds. A flat tetrahedron has no inside, so the boundary moves by
+   * rounding only whichever label it takes; LabelAsCap asks that its other two facets be inside its tissue, and a
+   * flat tetrahedron between three labels (its tissue, another, the background) is a cap of neither: the randomized
+   * suite's SaltAndPepper 2164606 left one, with two facets on the background, one on its tissue and one on
+   * another tissue, that no move and no edge removal took out (docs/algorithm.md, "Flat caps"). */
+  static std::optional<Label>
+  LabelAsFlatCap(const MeshState & state, const LocalSampling & sizing, CellHandle cell)
+  {
+    if (const std::optional<Label> label = LabelAsCap(state, sizing, cell))
+    {
+      return label;
+    }
+    const Label label = cell->cache.label;
+    if (label == BackgroundLabel)
+    {
+      return std::nullopt;
+    }
+    std::array<Label, 4> beyond{};
+    for (int facet = 0; facet < 4; ++facet)
+    {
+      beyond[facet] = state.LabelBeyondFacet(cell, facet);
+    }
+    std::optional<Label> cap;
+    for (const Label other : beyond)
+    {
+      if (other != label && std::count(beyond.begin(), beyond.end(), other) >= 2 && (!cap || other < *cap))
+      {
+        cap = other;
+      }
+    }
+    if (!cap)
+    {
+      return std::nullopt;
+    }
+    std::vector<int> facetsBecomingBoundary;
+    for (int facet = 0; facet < 4; ++facet)
+    {
+      if (beyond[facet] != *cap)
+      {
+        facetsBecomingBoundary.push_back(facet);
+      }
+    }
+    return KeepBoundaryBounds(state, sizing, cell, facetsBecomingBoundary) ? cap : std::nullopt;
+  }
+
   /** Whether R4′ leaves the sliver `cell` to this step: with σ > 0, a sliver that is a cap on the background is
    * peeled off (relabelled to the background) like a flat cap, since no split point can leave its boundary with
    * surface vertices and 30° angles (SliverSplit). */
@@ -182,7 +229,8 @@ private:
       {
         continue;
       }
-      const std::optional<Label> label = LabelAsCap(m_State, m_Sizing, cell);
+      const std::optional<Label> label =
+        isFlat ? LabelAsFlatCap(m_State, m_Sizing, cell) : LabelAsCap(m_State, m_Sizing, cell);
       // A sliver is peeled off the background only: given another tissue's label it would stay in the mesh.
       if (label && (isFlat || *label == BackgroundLabel))
       {

@@ -1480,6 +1480,21 @@ TEST(RegressionFlatTetrahedra, FlatTetrahedronWhoseRingsWereRelabelledIsRemoved)
   EXPECT_EQ(report.result.flatTetrahedra, 0u);
 }
 
+/** A tetrahedron flat to rounding between three labels. Found by a search of 16,000 more cases (seeds
+ * 157,600-173,599): SaltAndPepper 2164606 (ρ = 2.85, σ = 0, δ = 0.88 voxel) kept one tetrahedron of label 3 with two
+ * facets on the background, one on label 1 and one inside label 3. No move of a corner passed, no edge had a ring in
+ * one tissue (one edge's ring is that tetrahedron alone), and the flat-cap step asked that the two facets not on the
+ * background be inside the tetrahedron's tissue. A tetrahedron flat to rounding has no inside, so it now takes the
+ * label beyond two of its facets whatever its other two face (FlatCaps::LabelAsFlatCap); the case must mesh with no
+ * flat tetrahedron and pass every check, the boundary's angles and manifoldness among them. */
+TEST(RegressionFlatTetrahedra, FlatTetrahedronBetweenThreeLabelsTakesTheLabelBeyondTwoFacets)
+{
+  const RandomCase randomCase = MakeCase(Family::SaltAndPepper, 2164606);
+  ASSERT_EQ(randomCase.settings.minimumDihedralAngle, 0.0) << "the case is no longer the one";
+  const CaseReport report = ExpectMeshPassingEveryCheck(randomCase);
+  EXPECT_EQ(report.result.flatTetrahedra, 0u);
+}
+
 /** The opt-in manifold refinement (ManifoldRefinementLevels > 0) repairs a mesh only when at most a fixed fraction of
  * its boundary vertices are non-manifold (ManifoldRepair::IsRepairable), all of them or none: ManyLabels seed 5000157
  * sat at that threshold, so δ and δ (1 + 1e-12) gave 4 rounds, 190 zones and 9,275 vertices, or no round and 857
