@@ -81,6 +81,9 @@
 #   regularization-progress-fixed the oracle reports one fraction through the whole regularisation (its own fractions
 #                                 dropped), so the progress stands still there
 #   openings-unchecked            the labels' openings neither report their progress nor check for an abort
+#   A bug in the flat caps (added 2026-11-30, third stop):
+#   flat-cap-needs-three-facets   a tetrahedron flat to rounding takes another label only when it is beyond three of
+#                                 its facets, not two, so one between three labels stays flat in the output
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -220,6 +223,9 @@
 # The regularisation's two, run on 2026-11-30 with DELAUNAY_MUTATION_CTEST_ARGS="-R Progress|Regulariz|Abort" (29
 # tests): regularization-progress-fixed caught by Progress.RegularisationMovesTheProgressAndHonoursAbort,
 # openings-unchecked by that test and LabelRegularization.ReportsItsProgressAndStopsWithinTheOpenings.
+# The flat caps' one, run on 2026-11-30 with DELAUNAY_MUTATION_CTEST_ARGS="-R RegressionFlatTetrahedra|FlatTetrahedra"
+# (11 tests): flat-cap-needs-three-facets caught by
+# RegressionFlatTetrahedra.FlatTetrahedronBetweenThreeLabelsTakesTheLabelBeyondTwoFacets.
 set -euo pipefail
 
 repository=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -237,7 +243,7 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   gmsh-entity-box-upper-min interface-label-sides-swapped json-non-manifold-vertices-zero queue-heap-not-rebuilt
   queue-rebuild-skips-last-parent relabel-tie-to-first-weighed relabel-bound-stops-at-ties opening-keeps-root-fins
   opening-drops-beside-lost setup-ignores-abort setup-map-in-one-round regularization-progress-fixed
-  openings-unchecked)
+  openings-unchecked flat-cap-needs-three-facets)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -574,6 +580,11 @@ apply_mutation() {
       mutate "$tree/src/DelaunayRefinementLabelRegularization.cxx" \
         'if (std::this_thread::get_id() != m_CallingThread)' \
         'if (true)'
+      ;;
+    flat-cap-needs-three-facets)
+      mutate "$tree/src/DelaunayRefinementFlatCaps.h" \
+        'std::count(beyond.begin(), beyond.end(), other) >= 2' \
+        'std::count(beyond.begin(), beyond.end(), other) >= 3'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2

@@ -24,14 +24,16 @@
 // a tetrahedron has two facets on its label's boundary, both against one other label, it is a cap on that boundary:
 // giving it the other label swaps the two facets for its other two, which lie in the same plane on the same circle
 // (so their angles keep the 30° bound: each is half an arc of the circle that the old facets' angles bound below by
-// 60°), and the boundary moves by the cap's thickness only. Splitting it instead, as a sliver, puts free vertices
-// on the boundary and edges below δ (Lemmas 2 and 5), so it is relabelled, after every rule and repair, and only
-// where that makes no boundary non-manifold. With σ > 0 the same step peels off the background the slivers that
-// R4′ left as caps on it (no split point there passed its acceptance test): their new boundary triangles are
-// checked for 30° and for R1's bound (circumradius below the local δ), since they are not co-circular: on the
-// randomized images with σ = 10°, 36 of 2,800 meshes had a peeled sliver's triangle up to 5 % wider than δ. A sliver
-// whose peel would make a boundary non-manifold stays, and the refinement splits it after all (Refiner::PeelFlatCaps in
-// DelaunayRefinementMesher.cxx).
+// 60°), and the boundary moves by the cap's thickness only. A flat tetrahedron whose other two facets are not inside
+// its tissue takes the label beyond two of its facets all the same (LabelAsFlatCap): it has no inside, so the
+// boundary moves by rounding only, and the facets that become boundary are checked. Splitting a cap instead, as a
+// sliver, puts free vertices on the boundary and edges below δ (Lemmas 2 and 5), so it is relabelled, after every
+// rule and repair, and only where that makes no boundary non-manifold. With σ > 0 the same step peels off the
+// background the slivers that R4′ left as caps on it (no split point there passed its acceptance test): their new
+// boundary triangles are checked for 30° and for R1's bound (circumradius below the local δ), since they are not
+// co-circular: on the randomized images with σ = 10°, 36 of 2,800 meshes had a peeled sliver's triangle up to 5 %
+// wider than δ. A sliver whose peel would make a boundary non-manifold stays, and the refinement splits it after all
+// (Refiner::PeelFlatCaps in DelaunayRefinementMesher.cxx).
 
 #include "DelaunayRefinementGeometry.h"
 #include "DelaunayRefinementMeshState.h"
