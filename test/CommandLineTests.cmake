@@ -75,9 +75,15 @@ add_test(NAME DelaunayImageToMeshCommandLine.LostTissue
 add_test(NAME DelaunayImageToMeshCommandLine.IndependentQuality
   COMMAND ${DelaunayImageToMesh_TEST_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/DelaunayImageToMeshCommandLineIndependentQuality.py
     ${command_line_program} ${command_line_images} ${command_line_output}/independent-quality)
+# The same on ITK's real segmentations (the brain mask and the k-means tissues) over δ, σ and ρ.
+add_test(NAME DelaunayImageToMeshCommandLine.IndependentQualityOnRealImages
+  COMMAND ${DelaunayImageToMesh_TEST_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/DelaunayImageToMeshCommandLineIndependentQuality.py
+    ${command_line_program} ${command_line_images} ${command_line_output}/independent-quality-real
+    ${DelaunayImageToMesh_EXAMPLES_DATA})
 
 set_tests_properties(
   DelaunayImageToMeshCommandLine.IndependentQuality
+  DelaunayImageToMeshCommandLine.IndependentQualityOnRealImages
   DelaunayImageToMeshCommandLine.OutputFormat.vtu
   DelaunayImageToMeshCommandLine.OutputFormat.vtk
   DelaunayImageToMeshCommandLine.OutputFormat.msh
