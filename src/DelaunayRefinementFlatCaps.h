@@ -89,20 +89,16 @@ public:
     return state.LabelBeyondFacet(cell, boundaryFacets[0]);
   }
 
-  /** The label a tissue's tetrahedron flat to rounding takes as a cap: LabelAsCap's, or else the one label other
-   * than its own beyond two or more of its facets (the smaller of two such), when its other facets, which become
-   * that label's boundary, keep the boundary's bounds. A flat tetrahedron has no inside, so the boundary moves by
-   * rounding only whichever label it takes; LabelAsCap asks that its other two facets be inside its tissue, and a
-   * flat tetrahedron between three labels (its tissue, another, the background) is a cap of neither: the randomized
-   * suite's SaltAndPepper 2164606 left one, with two facets on the background, one on its tissue and one on
-   * another tissue, that no move and no edge removal took out (docs/algorithm.md, "Flat caps"). */
+  /** The label a tissue's tetrahedron flat to rounding takes as a cap: the one label other than its own beyond two or
+   * more of its facets (the smaller of two such), when its other facets, which become that label's boundary, keep
+   * the boundary's bounds. LabelAsCap's caps are the case where those other facets are inside its tissue. A flat
+   * tetrahedron has no inside, so the boundary moves by rounding only whichever label it takes, and one between three
+   * labels (its tissue, another, the background) is a cap too: the randomized suite's SaltAndPepper 2164606 left one,
+   * with two facets on the background, one on its tissue and one on another tissue, that no move and no edge removal
+   * took out (docs/algorithm.md, "Flat caps"). */
   static std::optional<Label>
   LabelAsFlatCap(const MeshState & state, const LocalSampling & sizing, CellHandle cell)
   {
-    if (const std::optional<Label> label = LabelAsCap(state, sizing, cell))
-    {
-      return label;
-    }
     const Label label = cell->cache.label;
     if (label == BackgroundLabel)
     {
