@@ -53,7 +53,7 @@ def main(arguments):
                                                       values(options["--rhos"])):
             delta = multiple * float(spacing)
             name = f"{image}-delta-{delta:.4f}-sigma-{sigma:g}-rho-{rho:g}"
-            promised = rho == 2.0 and sigma in (0.0, independent.DEFAULT_SIGMA) and multiple >= 1.0
+            promised = independent.is_manifold_promised(delta, float(spacing), sigma, rho)
             runs += 1
             try:
                 mesh_path, report = mesh_and_report(
