@@ -496,6 +496,48 @@ WriteMesh(const delaunay_refinement::TetrahedralMesh & mesh, const std::string &
   }
 }
 
+/** The run as the report records it: every parameter read back from the filter, so that the report says what the
+ * mesh was made with, and what the topology options did. */
+template <typename TFilter>
+delaunay_refinement::MeshingRun
+DescribeRun(const TFilter & filter, const Options & options,
+            const std::vector<std::pair<std::string, double>> & phaseSeconds)
+{
+  delaunay_refinement::MeshingRun run;
+  run.inputFile = options.inputPath;
+  run.outputFile = options.outputPath;
+  run.surfaceSamplingDistance = filter.GetEffectiveSurfaceSamplingDistance();
+  run.radiusEdgeBound = filter.GetRadiusEdgeBound();
+  run.minimumDihedralAngle = filter.GetMinimumDihedralAngle();
+  run.phaseSeconds = phaseSeconds;
+  run.peakResidentMemoryBytes = delaunay_refinement::PeakResidentMemoryBytes();
+  if (filter.GetUseIsoValue())
+  {
+    run.isoValue = filter.GetIsoValue();
+  }
+  else
+  {
+    run.selectedLabels.assign(filter.GetLabels().begin(), filter.GetLabels().end());
+    run.mergeLabels = filter.GetMergeLabels();
+  }
+  run.maximumNumberOfVertices = filter.GetMaximumNumberOfVertices();
+  const delaunay_refinement::RefinementStatistics & statistics = filter.GetRefinementStatistics();
+  delaunay_refinement::TopologyRun &                topology = run.topology;
+  topology.regularizationScale = filter.GetRegularizationScale();
+  topology.joinDiagonalVoxels = filter.GetJoinDiagonalVoxels();
+  topology.voxelsChangedAtPinches = filter.GetNumberOfJoiningVoxels();
+  topology.relabelNonManifoldPlaces = filter.GetRelabelNonManifoldPlaces();
+  topology.relabelledTetrahedra = filter.GetNumberOfTopologyRelabelledTetrahedra();
+  topology.regularizationRoundsAllowed = filter.GetTopologyRegularizationRounds();
+  topology.regularizationRoundsMade = statistics.topologyRegularizationRounds;
+  topology.locallyRegularizedVoxels = filter.GetNumberOfLocallyRegularizedVoxels();
+  topology.budgetReached = filter.GetTopologyRegularizationBudgetReached();
+  topology.refineThickParts = filter.GetRefineThickParts();
+  topology.thickPartsRefined = statistics.thickPartsRefined;
+  topology.manifoldRefinementLevels = filter.GetManifoldRefinementLevels();
+  return run;
+}
+
 template <typename TImage>
 int
 MeshImage(const Options & options)
@@ -579,13 +621,7 @@ MeshImage(const Options & options)
     return EXIT_SUCCESS;
   }
 
-  report.run = { options.inputPath,
-                 options.outputPath,
-                 filter->GetEffectiveSurfaceSamplingDistance(),
-                 options.radiusEdgeBound,
-                 options.minimumDihedralAngle,
-                 phaseSeconds,
-                 delaunay_refinement::PeakResidentMemoryBytes() };
+  report.run = DescribeRun(*filter, options, phaseSeconds);
   if (!options.reportPath.empty())
   {
     delaunay_refinement::WriteQualityReportJsonFile(report, options.reportPath);

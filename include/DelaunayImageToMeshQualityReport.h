@@ -27,12 +27,38 @@
 #include <cstddef>
 #include <ostream>
 #include <array>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace delaunay_refinement
 {
+
+/** How the mesher kept every tissue's boundary a manifold at the scale of δ (docs/algorithm.md, "Topology"): its
+ * options as the mesher used them, and what each did in the run. */
+struct TopologyRun
+{
+  /** The opening's radius as a fraction of δ; 0 = the voxels as they are. */
+  double regularizationScale{ 0.0 };
+  /** Whether voxel pinches were removed, and how many voxels changed label for it. */
+  bool        joinDiagonalVoxels{ false };
+  std::size_t voxelsChangedAtPinches{ 0 };
+  /** Whether tetrahedra at non-manifold places may take a neighbour's label, and how many did. */
+  bool        relabelNonManifoldPlaces{ false };
+  std::size_t relabelledTetrahedra{ 0 };
+  /** The most rounds of local regularisation allowed, the rounds made, the voxels they changed, and whether they
+   * stopped at their budget of inserted vertices. */
+  std::size_t regularizationRoundsAllowed{ 0 };
+  std::size_t regularizationRoundsMade{ 0 };
+  std::size_t locallyRegularizedVoxels{ 0 };
+  bool        budgetReached{ false };
+  /** Whether the parts a δ thick that got no tetrahedron were sampled more finely, and how many were. */
+  bool        refineThickParts{ false };
+  std::size_t thickPartsRefined{ 0 };
+  /** The opt-in halving of δ where a boundary stayed non-manifold: the levels allowed. */
+  std::size_t manifoldRefinementLevels{ 0 };
+};
 
 /** How a mesh was made and what it cost. The report records these as the caller gives them. */
 struct MeshingRun
@@ -51,6 +77,14 @@ struct MeshingRun
   std::vector<std::pair<std::string, double>> phaseSeconds;
   /** Peak resident memory of the process, bytes (PeakResidentMemoryBytes()); 0 = not measured. */
   std::size_t peakResidentMemoryBytes{ 0 };
+  /** The tissues: every non-zero label (empty), or these labels; merged into one object (label 1); or, with an
+   * iso-value, the object where the interpolated value reaches it. */
+  std::vector<Label>    selectedLabels;
+  bool                  mergeLabels{ false };
+  std::optional<double> isoValue;
+  /** The cap on the triangulation's vertices. */
+  std::size_t maximumNumberOfVertices{ 0 };
+  TopologyRun topology;
 };
 
 /** The tetrahedra carrying one label, and their boundary against the background and the other labels. */
@@ -185,7 +219,11 @@ PrintQualityReport(const QualityReport & report, std::ostream & out);
 
 /** Writes the report as a JSON object (nlohmann-json), for programs; non-finite numbers are written as null,
  * doubles to their last digit, bytes of file names that are not UTF-8 as U+FFFD. Keys, in this order: input,
- * output, parameters {delta_mm, radius_edge_bound, min_dihedral_angle_deg}, vertices, tetrahedra,
+ * output, parameters {delta_mm, radius_edge_bound, min_dihedral_angle_deg, labels ("all" or the list),
+ * merge_labels, iso_value (null without one), max_vertices, regularization_scale, join_diagonal_voxels,
+ * relabel_non_manifold_places, topology_rounds, refine_thick_parts, manifold_refinement_levels}, topology
+ * {voxels_changed_at_pinches, relabelled_tetrahedra, regularization_rounds, locally_regularized_voxels,
+ * budget_reached, thick_parts_refined}, vertices, tetrahedra,
  * boundary_triangles, quality {min_dihedral_angle_deg, max_dihedral_angle_deg, max_radius_edge_ratio,
  * min_boundary_planar_angle_deg, inverted_tetrahedra, manifold, non_manifold_edges, non_manifold_vertices},
  * mesh_volume_mm3, segmented_volume_mm3, distance_to_marching_cubes {sample_spacing_mm, samples, mean_mm,

@@ -84,6 +84,12 @@
 #   A bug in the flat caps (added 2026-11-30, third stop):
 #   flat-cap-needs-three-facets   a tetrahedron flat to rounding takes another label only when it is beyond three of
 #                                 its facets, not two, so one between three labels stays flat in the output
+#   Bugs in the command line's topology options (added 2026-11-30, fourth stop), which no test used before:
+#   cli-regularization-scale-ignored the command line drops --regularization-scale
+#   cli-relabelling-ignored       the command line drops --no-topology-relabelling
+#   cli-thick-parts-ignored       the command line drops --no-thick-part-refinement
+#   cli-manifold-levels-ignored   the command line drops --manifold-levels
+#   report-pinches-read-relabelled the JSON report's voxels changed at pinches are the relabelled tetrahedra
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -243,7 +249,8 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   gmsh-entity-box-upper-min interface-label-sides-swapped json-non-manifold-vertices-zero queue-heap-not-rebuilt
   queue-rebuild-skips-last-parent relabel-tie-to-first-weighed relabel-bound-stops-at-ties opening-keeps-root-fins
   opening-drops-beside-lost setup-ignores-abort setup-map-in-one-round regularization-progress-fixed
-  openings-unchecked flat-cap-needs-three-facets)
+  openings-unchecked flat-cap-needs-three-facets cli-regularization-scale-ignored cli-relabelling-ignored
+  cli-thick-parts-ignored cli-manifold-levels-ignored report-pinches-read-relabelled)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -585,6 +592,25 @@ apply_mutation() {
       mutate "$tree/src/DelaunayRefinementFlatCaps.h" \
         'std::count(beyond.begin(), beyond.end(), other) >= 2' \
         'std::count(beyond.begin(), beyond.end(), other) >= 3'
+      ;;
+    cli-regularization-scale-ignored)
+      mutate "$tree/examples/DelaunayImageToMesh.cxx" 'filter->SetRegularizationScale(options.regularizationScale);' ''
+      ;;
+    cli-relabelling-ignored)
+      mutate "$tree/examples/DelaunayImageToMesh.cxx" \
+        'filter->SetRelabelNonManifoldPlaces(!options.keepNonManifoldPlaces);' ''
+      ;;
+    cli-thick-parts-ignored)
+      mutate "$tree/examples/DelaunayImageToMesh.cxx" 'filter->SetRefineThickParts(!options.keepThickPartsUnrefined);' ''
+      ;;
+    cli-manifold-levels-ignored)
+      mutate "$tree/examples/DelaunayImageToMesh.cxx" \
+        'filter->SetManifoldRefinementLevels(options.manifoldRefinementLevels);' ''
+      ;;
+    report-pinches-read-relabelled)
+      mutate "$tree/examples/DelaunayImageToMesh.cxx" \
+        'topology.voxelsChangedAtPinches = filter.GetNumberOfJoiningVoxels();' \
+        'topology.voxelsChangedAtPinches = filter.GetNumberOfTopologyRelabelledTetrahedra();'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2

@@ -229,9 +229,32 @@ using Json = nlohmann::ordered_json;
 Json
 ParametersJson(const MeshingRun & run)
 {
+  const TopologyRun & topology = run.topology;
   return { { "delta_mm", run.surfaceSamplingDistance },
            { "radius_edge_bound", run.radiusEdgeBound },
-           { "min_dihedral_angle_deg", run.minimumDihedralAngle } };
+           { "min_dihedral_angle_deg", run.minimumDihedralAngle },
+           { "labels", run.selectedLabels.empty() ? Json("all") : Json(run.selectedLabels) },
+           { "merge_labels", run.mergeLabels },
+           { "iso_value", run.isoValue ? Json(*run.isoValue) : Json() },
+           { "max_vertices", run.maximumNumberOfVertices },
+           { "regularization_scale", topology.regularizationScale },
+           { "join_diagonal_voxels", topology.joinDiagonalVoxels },
+           { "relabel_non_manifold_places", topology.relabelNonManifoldPlaces },
+           { "topology_rounds", topology.regularizationRoundsAllowed },
+           { "refine_thick_parts", topology.refineThickParts },
+           { "manifold_refinement_levels", topology.manifoldRefinementLevels } };
+}
+
+/** What the topology options did (TopologyRun). */
+Json
+TopologyJson(const TopologyRun & topology)
+{
+  return { { "voxels_changed_at_pinches", topology.voxelsChangedAtPinches },
+           { "relabelled_tetrahedra", topology.relabelledTetrahedra },
+           { "regularization_rounds", topology.regularizationRoundsMade },
+           { "locally_regularized_voxels", topology.locallyRegularizedVoxels },
+           { "budget_reached", topology.budgetReached },
+           { "thick_parts_refined", topology.thickPartsRefined } };
 }
 
 /** {"5": count, "10": count, "15": count}: the thresholds are SliverAngleThresholds, written once. */
@@ -332,6 +355,7 @@ ReportJson(const QualityReport & report)
   return { { "input", run.inputFile },
            { "output", run.outputFile },
            { "parameters", ParametersJson(run) },
+           { "topology", TopologyJson(run.topology) },
            { "vertices", report.vertices },
            { "tetrahedra", report.tetrahedra },
            { "boundary_triangles", report.boundaryTriangles },

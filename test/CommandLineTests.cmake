@@ -80,6 +80,12 @@ add_test(NAME DelaunayImageToMeshCommandLine.IndependentQualityOnRealImages
   COMMAND ${DelaunayImageToMesh_TEST_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/DelaunayImageToMeshCommandLineIndependentQuality.py
     ${command_line_program} ${command_line_images} ${command_line_output}/independent-quality-real
     ${DelaunayImageToMesh_EXAMPLES_DATA})
+# Every topology option reaches the filter and turns its step off, on ITK's k-means tissues; the report records it.
+add_test(NAME DelaunayImageToMeshCommandLine.TopologyOptions
+  COMMAND ${DelaunayImageToMesh_TEST_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/DelaunayImageToMeshCommandLineTopologyOptions.py
+    ${command_line_program} ${command_line_output}/topology-options ${DelaunayImageToMesh_EXAMPLES_DATA})
+set_tests_properties(DelaunayImageToMeshCommandLine.TopologyOptions
+  PROPERTIES TIMEOUT 600 ENVIRONMENT PYTHONDONTWRITEBYTECODE=1)
 
 set_tests_properties(
   DelaunayImageToMeshCommandLine.IndependentQuality

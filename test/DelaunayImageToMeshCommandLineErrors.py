@@ -28,7 +28,9 @@ import sys
 from DelaunayImageToMeshCommandLineTesting import PROGRAM_NAME, check, describe, run
 
 OPTIONS = ["--delta", "--radius-edge", "--min-dihedral", "--labels", "--merge-labels", "--keep-diagonal-voxels", "--iso",
-           "--max-vertices", "--report", "--quiet", "--version", "--help", "--config", "-d,", "-q,", "-V,", "-h,"]
+           "--max-vertices", "--regularization-scale", "--topology-rounds", "--no-topology-relabelling",
+           "--no-thick-part-refinement", "--manifold-levels", "--distance", "--report", "--quiet", "--version", "--help",
+           "--config", "-d,", "-q,", "-V,", "-h,"]
 GROUPS = ["Meshing:", "Tissues:", "Output:"]
 
 
@@ -64,6 +66,11 @@ def error_cases(image, output):
         ([image, mesh, "--max-vertices", "-5"], "--max-vertices: needs a whole number, got '-5'"),
         ([image, mesh, "--max-vertices", "5"], "--max-vertices: Invalid parameter maximumNumberOfVertices = 5: the "
          "valid range is [8, "),
+        ([image, mesh, "--regularization-scale", "0.7"], "--regularization-scale: a number in [0, 0.5], got '0.7'"),
+        ([image, mesh, "--topology-rounds", "21"], "--topology-rounds: Invalid parameter topologyRegularizationRounds "
+         "= 21: the valid range is [0, 20]"),
+        ([image, mesh, "--manifold-levels", "11"], "--manifold-levels: Invalid parameter manifoldRefinementLevels = 11: "
+         "the valid range is [0, 10]"),
         ([image, mesh, "--iso", "nan"], "--iso: needs a finite number, got 'nan'"),
         ([image, mesh, "--iso", "1", "--labels", "1"], "--labels excludes --iso"),
         ([image, mesh, "--iso", "1", "--merge-labels"], "--merge-labels excludes --iso"),

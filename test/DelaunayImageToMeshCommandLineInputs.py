@@ -78,14 +78,17 @@ def check_iso_value(program, images, output):
     _, report = mesh_and_report(program, os.path.join(images, "gray.mha"), output, "iso", options=["--iso", "92",
                                                                                                    "--delta", "2"])
     check(list(tetrahedra_per_label(report)) == [1], f"--iso: labels {report['labels']}, expected only 1")
+    check(report["parameters"]["iso_value"] == 92 and report["parameters"]["labels"] == "all",
+          f"--iso 92: the report's parameters {report['parameters']}")
     check(relative_difference(report["mesh_volume_mm3"], ISO_BALL_VOLUME) < VOLUME_TOLERANCE,
           f"--iso 92: mesh volume {report['mesh_volume_mm3']:.1f}, the ball's is {ISO_BALL_VOLUME:.1f}")
 
 
 def check_options(program, image, output, default_report):
     _, selected = mesh_and_report(program, image, output, "label2", options=["--delta", "2", "--labels", "2"])
-    check(list(tetrahedra_per_label(selected)) == [2] and list(labels_of(selected)) == [2],
-          f"--labels 2: report labels {selected['labels']}")
+    check(list(tetrahedra_per_label(selected)) == [2] and list(labels_of(selected)) == [2] and
+          selected["parameters"]["labels"] == [2], f"--labels 2: report labels {selected['labels']}, parameters "
+          f"{selected['parameters']}")
     _, every = mesh_and_report(program, image, output, "all", options=["--delta", "2", "--labels", "all"])
     check(every["tetrahedra"] == default_report["tetrahedra"], "--labels all differs from the default")
 

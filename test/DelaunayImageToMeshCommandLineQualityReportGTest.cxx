@@ -442,6 +442,44 @@ TEST(QualityReport, JsonReadsBackEveryMeasure)
   EXPECT_EQ(json["peak_memory_bytes"], 4096);
 }
 
+TEST(QualityReport, JsonRecordsEveryParameterAndWhatTheTopologyStepsDid)
+{
+  QualityReport report = CubeReport(2);
+  report.run.selectedLabels = { 2, 7 };
+  report.run.mergeLabels = true;
+  report.run.maximumNumberOfVertices = 123456;
+  TopologyRun & topology = report.run.topology;
+  // Each value distinct, so that a key reading another member shows.
+  topology = { 0.25, true, 11, false, 12, 13, 14, 15, true, false, 16, 3 };
+  nlohmann::ordered_json         json = JsonOf(report);
+  const nlohmann::ordered_json & parameters = json["parameters"];
+  EXPECT_EQ(parameters["labels"], std::vector<int>({ 2, 7 })) << json;
+  EXPECT_EQ(parameters["merge_labels"], true);
+  EXPECT_TRUE(parameters["iso_value"].is_null());
+  EXPECT_EQ(parameters["max_vertices"], 123456);
+  EXPECT_EQ(parameters["regularization_scale"], 0.25);
+  EXPECT_EQ(parameters["join_diagonal_voxels"], true);
+  EXPECT_EQ(parameters["relabel_non_manifold_places"], false);
+  EXPECT_EQ(parameters["topology_rounds"], 13);
+  EXPECT_EQ(parameters["refine_thick_parts"], false);
+  EXPECT_EQ(parameters["manifold_refinement_levels"], 3);
+  const nlohmann::ordered_json & done = json["topology"];
+  EXPECT_EQ(done["voxels_changed_at_pinches"], 11) << json;
+  EXPECT_EQ(done["relabelled_tetrahedra"], 12);
+  EXPECT_EQ(done["regularization_rounds"], 14);
+  EXPECT_EQ(done["locally_regularized_voxels"], 15);
+  EXPECT_EQ(done["budget_reached"], true);
+  EXPECT_EQ(done["thick_parts_refined"], 16);
+
+  // Every label (none selected), or an iso-value instead of labels.
+  report.run.selectedLabels.clear();
+  report.run.mergeLabels = false;
+  report.run.isoValue = 92.5;
+  json = JsonOf(report);
+  EXPECT_EQ(json["parameters"]["labels"], "all") << json;
+  EXPECT_EQ(json["parameters"]["iso_value"], 92.5);
+}
+
 TEST(QualityReport, JsonEscapesTextAndHasNoInfinity)
 {
   QualityReport report = CubeReport(1);

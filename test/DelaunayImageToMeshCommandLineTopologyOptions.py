@@ -1,0 +1,119 @@
+# ==========================================================================
+#
+#   Copyright NumFOCUS
+#
+#   Licensed under the Apache License, Version 2.0 (the "License");
+#   you may not use this file except in compliance with the License.
+#   You may obtain a copy of the License at
+#
+#          http://www.apache.org/licenses/LICENSE-2.0.txt
+#
+#   Unless required by applicable law or agreed to in writing, software
+#   distributed under the License is distributed on an "AS IS" BASIS,
+#   WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+#   See the License for the specific language governing permissions and
+#   limitations under the License.
+#
+# ==========================================================================
+"""Every topology option of the command line reaches the filter and does what it says (docs/algorithm.md,
+"Topology"), seen in the JSON report, whose parameters the program reads back from the filter and whose "topology"
+object says what each step did.
+
+ITK's k-means tissues at delta = 6 mm (twice the largest spacing) need every step: the defaults change voxels at
+pinches, remove components thinner than the scale, relabel tetrahedra, make regularisation rounds and refine a thick
+part. The test first asserts that they do (else the image no longer tests anything), then turns each step off alone
+and asserts that exactly that step did nothing, with the option recorded. The opt-in halving of delta and the vertex
+cap are checked as recorded parameters.
+
+Usage: DelaunayImageToMeshCommandLineTopologyOptions.py PROGRAM OUTPUT_DIRECTORY EXAMPLES_DATA"""
+
+import os
+import sys
+
+from DelaunayImageToMeshCommandLineTesting import check, mesh_and_report
+
+KMEANS_TISSUES = "KmeansTest_T1KmeansPrelimSegmentation.nii.gz"
+TISSUES = ["--labels", "2,3,4,5,6"]
+DELTA = ["--delta", "6"]
+
+# The filter's defaults, as the report must record them when no option is given.
+DEFAULT_PARAMETERS = {
+    "labels": [2, 3, 4, 5, 6],
+    "merge_labels": False,
+    "iso_value": None,
+    "max_vertices": 10_000_000,
+    "regularization_scale": 0.4,
+    "join_diagonal_voxels": True,
+    "relabel_non_manifold_places": True,
+    "topology_rounds": 20,
+    "refine_thick_parts": True,
+    "manifold_refinement_levels": 0,
+}
+
+
+def components_removed(report):
+    return sum(label["regularization"]["components_removed"] for label in report["labels"])
+
+
+def volume_regularised(report):
+    return sum(label["regularization"]["volume_removed_mm3"] + label["regularization"]["volume_added_mm3"]
+               for label in report["labels"])
+
+
+# What each step did, read from a report: (name, work).
+STEPS = {
+    "regularisation at the scale of delta": lambda report: components_removed(report) + volume_regularised(report),
+    "voxel pinches": lambda report: report["topology"]["voxels_changed_at_pinches"],
+    "relabelling at non-manifold places": lambda report: report["topology"]["relabelled_tetrahedra"],
+    "regularisation rounds": lambda report: (report["topology"]["regularization_rounds"] +
+                                            report["topology"]["locally_regularized_voxels"]),
+    "thick-part refinement": lambda report: report["topology"]["thick_parts_refined"],
+}
+
+# Each option that turns one step off: (options, the step, the parameters it must record).
+OPTIONS_OFF = [
+    (["--regularization-scale", "0"], "regularisation at the scale of delta", {"regularization_scale": 0.0}),
+    (["--keep-diagonal-voxels"], "voxel pinches", {"join_diagonal_voxels": False}),
+    (["--no-topology-relabelling"], "relabelling at non-manifold places", {"relabel_non_manifold_places": False}),
+    (["--topology-rounds", "0"], "regularisation rounds", {"topology_rounds": 0}),
+    (["--no-thick-part-refinement"], "thick-part refinement", {"refine_thick_parts": False}),
+]
+
+
+def check_parameters(report, expected, what):
+    parameters = report["parameters"]
+    for key, value in expected.items():
+        check(key in parameters and parameters[key] == value,
+              f"{what}: the report's parameter {key} is {parameters.get(key, 'missing')!r}, expected {value!r}")
+
+
+def main(program, output, examples_data):
+    image = os.path.join(examples_data, KMEANS_TISSUES)
+    _, default = mesh_and_report(program, image, output, "defaults", options=TISSUES + DELTA)
+    check_parameters(default, DEFAULT_PARAMETERS, "the defaults")
+    for step, work in STEPS.items():
+        check(work(default) > 0, f"with the defaults the {step} did nothing on {KMEANS_TISSUES} at 6 mm: the image "
+              f"no longer tests the option that turns it off ({default['topology']})")
+    print("defaults:", default["topology"])
+
+    for options, step_off, recorded in OPTIONS_OFF:
+        what = " ".join(options)
+        _, report = mesh_and_report(program, image, output, options[0].lstrip("-"), options=TISSUES + DELTA + options)
+        check_parameters(report, {**DEFAULT_PARAMETERS, **recorded}, what)
+        check(STEPS[step_off](report) == 0, f"{what}: the {step_off} still worked ({report['topology']}, "
+              f"{components_removed(report)} components removed)")
+        print(f"{what}: the {step_off} did nothing; {report['tetrahedra']} tetrahedra against "
+              f"{default['tetrahedra']}")
+
+    opt_in = ["--manifold-levels", "2", "--max-vertices", "900000", "--labels", "2,3"]
+    _, report = mesh_and_report(program, image, output, "opt-in", options=DELTA + opt_in)
+    check_parameters(report, {**DEFAULT_PARAMETERS, "labels": [2, 3], "manifold_refinement_levels": 2,
+                              "max_vertices": 900_000}, " ".join(opt_in))
+    check(sorted(label["label"] for label in report["labels"]) == [2, 3],
+          f"--labels 2,3: the report's labels are {[label['label'] for label in report['labels']]}")
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 4:
+        sys.exit(__doc__)
+    main(*sys.argv[1:])
