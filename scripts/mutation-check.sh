@@ -232,6 +232,11 @@
 # The flat caps' one, run on 2026-11-30 with DELAUNAY_MUTATION_CTEST_ARGS="-R RegressionFlatTetrahedra|FlatTetrahedra"
 # (11 tests): flat-cap-needs-three-facets caught by
 # RegressionFlatTetrahedra.FlatTetrahedronBetweenThreeLabelsTakesTheLabelBeyondTwoFacets.
+# The command line's topology options, run on 2026-11-30 with DELAUNAY_MUTATION_CTEST_ARGS="-R CommandLine" (14 tests):
+# each of the five caught by DelaunayImageToMeshCommandLine.TopologyOptions only (before it, no test passed these
+# options): cli-regularization-scale-ignored, cli-relabelling-ignored and cli-thick-parts-ignored by a recorded
+# parameter and the step still working, cli-manifold-levels-ignored by the recorded parameter,
+# report-pinches-read-relabelled by the pinches' count with --keep-diagonal-voxels (343, the relabelled tetrahedra).
 set -euo pipefail
 
 repository=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
