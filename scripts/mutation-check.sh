@@ -90,6 +90,8 @@
 #   cli-thick-parts-ignored       the command line drops --no-thick-part-refinement
 #   cli-manifold-levels-ignored   the command line drops --manifold-levels
 #   report-pinches-read-relabelled the JSON report's voxels changed at pinches are the relabelled tetrahedra
+#   regularization-reach-tie-margin-dropped the opening's reaches have no tie margin: which side of a reach a voxel at a
+#                                 lattice distance falls on follows δ's last bits again
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -255,7 +257,8 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   queue-rebuild-skips-last-parent relabel-tie-to-first-weighed relabel-bound-stops-at-ties opening-keeps-root-fins
   opening-drops-beside-lost setup-ignores-abort setup-map-in-one-round regularization-progress-fixed
   openings-unchecked flat-cap-needs-three-facets cli-regularization-scale-ignored cli-relabelling-ignored
-  cli-thick-parts-ignored cli-manifold-levels-ignored report-pinches-read-relabelled)
+  cli-thick-parts-ignored cli-manifold-levels-ignored report-pinches-read-relabelled
+  regularization-reach-tie-margin-dropped)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -616,6 +619,10 @@ apply_mutation() {
       mutate "$tree/examples/DelaunayImageToMesh.cxx" \
         'topology.voxelsChangedAtPinches = filter.GetNumberOfJoiningVoxels();' \
         'topology.voxelsChangedAtPinches = filter.GetNumberOfTopologyRelabelledTetrahedra();'
+      ;;
+    regularization-reach-tie-margin-dropped)
+      mutate "$tree/include/DelaunayRefinementLabelRegularization.h" \
+        'constexpr double RegularizationReachTieMargin = 1e-4;' 'constexpr double RegularizationReachTieMargin = 0.0;'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2

@@ -1027,8 +1027,14 @@ public:
     // wider than the ball keeps its voxels, corners included, except beside what the opening removes (OpenLabel).
     // (The same ball for both steps, the textbook opening, takes the staircase's corners off every convex part:
     // balls of radius 5 and 7 mm at δ = 2 mm lost 2-4 % of their volume; bench/README.md, "At ac99b9d".)
-    , m_Reach(radius > 0.0 ? radius + 0.5 * std::min({ spacing[0], spacing[1], spacing[2] }) : 0.0)
-    , m_DilationReach(radius > 0.0 ? radius + std::min({ spacing[0], spacing[1], spacing[2] }) : 0.0)
+    // Both lengthened by RegularizationReachTieMargin: a voxel at a reach's lattice distance is within it whatever δ's
+    // last bits.
+    , m_Reach(radius > 0.0 ? (radius + 0.5 * std::min({ spacing[0], spacing[1], spacing[2] })) *
+                               (1.0 + RegularizationReachTieMargin)
+                           : 0.0)
+    , m_DilationReach(radius > 0.0 ? (radius + std::min({ spacing[0], spacing[1], spacing[2] })) *
+                                       (1.0 + RegularizationReachTieMargin)
+                                   : 0.0)
     , m_NumberOfVoxels(size[0] * size[1] * size[2])
   {}
 

@@ -974,6 +974,44 @@ TEST(KmeansTissues, ProvenGuaranteesHoldWithoutSliverRemoval)
   ExpectGuarantees(*RunFilter<FilterType>(filter));
 }
 
+/** At δ = 5 mm the default scale gives the opening a radius of 2 mm, and its erosion a reach of 3 mm: the voxels'
+ * spacing along one axis. Which side of the reach those neighbours fell on followed δ's last bits, and took the mesh
+ * with it (57,695 tetrahedra at δ, 67,339 at δ (1 − 10⁻¹²)), until the reaches got RegularizationReachTieMargin:
+ * now the regularisation is the same voxel for voxel, and the mesh moves by what the refinement's own ties move it. */
+TEST(KmeansTissues, TheRegularisationFollowsDeltaNotItsLastBits)
+{
+  constexpr double                     delta = 5.0;
+  constexpr double                     largestRelativeChange = 0.04;
+  static const LabelImageType::Pointer image = ReadExampleImage("KmeansTest_T1KmeansPrelimSegmentation.nii.gz");
+  const auto                           meshAt = [](double atDelta) {
+    auto filter = FilterFor(image.GetPointer(), atDelta);
+    filter->SetLabels(KmeansTissues);
+    return RunFilter<FilterType>(filter);
+  };
+  const auto                            reference = meshAt(delta);
+  const dr::LabelRegularizationReport & regularised = reference->filter->GetRegularizationReport();
+  ASSERT_GT(regularised.changedVoxels, 0U) << "the regularisation should change voxels at this delta";
+  const double tetrahedra = static_cast<double>(reference->mesh.tetrahedra.size());
+  for (const double perturbation : { -1e-12, 1e-12, -1e-9 })
+  {
+    const auto                            perturbed = meshAt(delta * (1.0 + perturbation));
+    const dr::LabelRegularizationReport & report = perturbed->filter->GetRegularizationReport();
+    EXPECT_EQ(report.changedVoxels, regularised.changedVoxels) << "perturbation " << perturbation;
+    ASSERT_EQ(report.labels.size(), regularised.labels.size());
+    for (std::size_t i = 0; i < report.labels.size(); ++i)
+    {
+      EXPECT_EQ(report.labels[i].voxelsRemoved, regularised.labels[i].voxelsRemoved)
+        << "label " << report.labels[i].label << ", perturbation " << perturbation;
+      EXPECT_EQ(report.labels[i].componentsRemoved, regularised.labels[i].componentsRemoved)
+        << "label " << report.labels[i].label << ", perturbation " << perturbation;
+    }
+    const double change = std::abs(static_cast<double>(perturbed->mesh.tetrahedra.size()) - tetrahedra) / tetrahedra;
+    std::cout << "delta " << delta << " x (1 + " << perturbation << "): " << perturbed->mesh.tetrahedra.size()
+              << " tetrahedra, " << tetrahedra << " at delta\n";
+    EXPECT_LE(change, largestRelativeChange) << "perturbation " << perturbation;
+  }
+}
+
 TEST(KmeansTissues, InterfaceTrianglesSeparateTwoDifferentLabels)
 {
   const dr::TetrahedralMesh & mesh = MeshedKmeans().mesh;
