@@ -102,6 +102,17 @@ struct ParameterLimits
   static constexpr unsigned int LargestTopologyRegularizationRounds = 20;
 };
 
+/** R1 and R3 compare distances between surface points with the local δ. An image oracle's surface points lie on a
+ * lattice (the voxel faces' centres and crossings), whose distances are round multiples of the spacing, and users
+ * choose round δ, so such a distance often equals δ, and which side of the test it fell on followed δ's last bits.
+ * Both rules move that tie by this fraction of δ, to a value nobody types, and always toward inserting less
+ * (docs/algorithm.md, "Rules"): R1 counts a feature vertex up to δ (1 + LatticeTieMargin) away as within δ, so a
+ * feature vertex is still at least δ from every other (Lemma 2); R3 splits a restricted facet whose surface ball
+ * reaches δ (1 + LatticeTieMargin), so every boundary triangle's surface ball, and its circumradius, is below that.
+ * Far above rounding, far below anything geometric, and above the randomized suite's largest perturbation of δ
+ * (1e-6). */
+constexpr double LatticeTieMargin = 1e-4;
+
 /** Throws std::invalid_argument naming the parameter, its value and the valid range. */
 DelaunayImageToMesh_EXPORT void
 ValidateParameters(const RefinementParameters & parameters);

@@ -92,6 +92,8 @@
 #   report-pinches-read-relabelled the JSON report's voxels changed at pinches are the relabelled tetrahedra
 #   regularization-reach-tie-margin-dropped the opening's reaches have no tie margin: which side of a reach a voxel at a
 #                                 lattice distance falls on follows δ's last bits again
+#   r3-tie-margin-dropped         R3 splits a facet whose surface ball reaches δ exactly, without LatticeTieMargin:
+#                                 balls of radius δ on the lattice follow δ's last bits again
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -239,6 +241,9 @@
 # options): cli-regularization-scale-ignored, cli-relabelling-ignored and cli-thick-parts-ignored by a recorded
 # parameter and the step still working, cli-manifold-levels-ignored by the recorded parameter,
 # report-pinches-read-relabelled by the pinches' count with --keep-diagonal-voxels (343, the relabelled tetrahedra).
+# The regularisation's tie margin, run on 2026-11-30 with DELAUNAY_MUTATION_CTEST_ARGS="-R Regulariz|LastBits|KmeansTissues":
+# regularization-reach-tie-margin-dropped caught by LabelRegularization.RadiusesOnTheLatticeFollowTheRadiusNotItsLastBits
+# and KmeansTissues.TheRegularisationFollowsDeltaNotItsLastBits.
 set -euo pipefail
 
 repository=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -258,7 +263,7 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   opening-drops-beside-lost setup-ignores-abort setup-map-in-one-round regularization-progress-fixed
   openings-unchecked flat-cap-needs-three-facets cli-regularization-scale-ignored cli-relabelling-ignored
   cli-thick-parts-ignored cli-manifold-levels-ignored report-pinches-read-relabelled
-  regularization-reach-tie-margin-dropped)
+  regularization-reach-tie-margin-dropped r3-tie-margin-dropped)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -623,6 +628,10 @@ apply_mutation() {
     regularization-reach-tie-margin-dropped)
       mutate "$tree/include/DelaunayRefinementLabelRegularization.h" \
         'constexpr double RegularizationReachTieMargin = 1e-4;' 'constexpr double RegularizationReachTieMargin = 0.0;'
+      ;;
+    r3-tie-margin-dropped)
+      mutate "$tree/src/DelaunayRefinementRules.h" 'm_Sizing.LocalDelta(center) * (1.0 + LatticeTieMargin)' \
+        'm_Sizing.LocalDelta(center)'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2

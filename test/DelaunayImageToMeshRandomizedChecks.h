@@ -915,10 +915,15 @@ CheckBoundaryGuarantees(const dr::TetrahedralMesh & mesh, double delta, bool lem
   {
     violations.Add("smallest boundary planar angle ", boundary.minimumPlanarAngle, " deg <= 30 deg");
   }
+  // R3's surface balls, so the triangles' circumradii, stay below δ with its lattice tie margin.
   const double largestCircumradius = dr::LargestBoundaryCircumradius(mesh);
-  if (!(largestCircumradius < delta))
+  const double circumradiusBound = delta * (1.0 + dr::LatticeTieMargin);
+  if (!(largestCircumradius < circumradiusBound))
   {
-    violations.Add("largest boundary triangle circumradius ", largestCircumradius, " >= delta ", delta);
+    violations.Add("largest boundary triangle circumradius ",
+                   largestCircumradius,
+                   " >= delta (1 + LatticeTieMargin) ",
+                   circumradiusBound);
   }
   if (rho < 2.0)
   {
