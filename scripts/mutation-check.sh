@@ -244,6 +244,8 @@
 # The regularisation's tie margin, run on 2026-11-30 with DELAUNAY_MUTATION_CTEST_ARGS="-R Regulariz|LastBits|KmeansTissues":
 # regularization-reach-tie-margin-dropped caught by LabelRegularization.RadiusesOnTheLatticeFollowTheRadiusNotItsLastBits
 # and KmeansTissues.TheRegularisationFollowsDeltaNotItsLastBits.
+# R3's tie margin, run the same day with DELAUNAY_MUTATION_CTEST_ARGS="-R LastBits|BrainMask": r3-tie-margin-dropped
+# caught by BrainMask.TheDefaultsFollowDeltaNotItsLastBits (2.5 mm) and the brain mask's fingerprint.
 set -euo pipefail
 
 repository=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
