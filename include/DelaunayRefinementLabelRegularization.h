@@ -54,13 +54,6 @@ struct LabelRegularizationReport
   std::vector<LabelRegularizationChange> labels;
 };
 
-/** The distances between voxel centres are a lattice of round values, and users choose round δ: at δ = 5 mm on voxels
- * of 2 × 3 × 2 mm the default scale (0.4) gives a radius of 2 mm and an erosion reach of exactly 3 mm, a voxel's
- * distance along y, and which side of the reach that voxel fell on followed δ's last bits (ITK's k-means tissues at 5
- * mm: 57,695 tetrahedra, 67,339 at δ (1 − 10⁻¹²)). RegularizeLabels() lengthens both of its reaches by this fraction,
- * so that a voxel exactly at a reach is within it whatever the last bits (as it was at the round value itself). */
-constexpr double RegularizationReachTieMargin = 1e-4;
-
 /** Regularises a label image at a physical scale: every label, the background included, is opened with a ball of
  * `radius`, and every voxel that its own label's opening removed takes the label of the nearest voxel (physical
  * distance between centres) that survived its own label's opening. Voxels are cubes, distances are measured between
@@ -77,8 +70,8 @@ constexpr double RegularizationReachTieMargin = 1e-4;
  *
  * `labels` is a dense grid, voxel (i, j, k) at labels[i + size[0] * (j + size[1] * k)], with `spacing` between
  * voxel centres along each axis (the direction of the axes does not matter: distances are kept by rotations).
- * Both reaches are lengthened by RegularizationReachTieMargin (relative), so that a voxel at a reach's lattice distance
- * is within it whatever the radius's last bits.
+ * Both reaches are lengthened by LatticeTieMargin (relative), so that a voxel at a reach's lattice distance is within
+ * it whatever the radius's last bits.
  * Outside the grid is background. Deterministic: the result depends on the labels, spacing and radius only. A
  * radius of 0 changes nothing. `keepGoing` is asked, on the calling thread, between passes over the grid and between
  * the steps of each label's opening (a fraction of a second each on the largest images), with a rough fraction of the

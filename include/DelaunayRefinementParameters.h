@@ -102,13 +102,17 @@ struct ParameterLimits
   static constexpr unsigned int LargestTopologyRegularizationRounds = 20;
 };
 
-/** R1 and R3 compare distances between surface points with the local δ. An image oracle's surface points lie on a
- * lattice (the voxel faces' centres and crossings), whose distances are round multiples of the spacing, and users
- * choose round δ, so such a distance often equals δ, and which side of the test it fell on followed δ's last bits.
- * Both rules move that tie by this fraction of δ, to a value nobody types, and always toward inserting less
- * (docs/algorithm.md, "Rules"): R1 counts a feature vertex up to δ (1 + LatticeTieMargin) away as within δ, so a
- * feature vertex is still at least δ from every other (Lemma 2); R3 splits a restricted facet whose surface ball
- * reaches δ (1 + LatticeTieMargin), so every boundary triangle's surface ball, and its circumradius, is below that.
+/** The voxel lattice makes distances of round values, and users choose round δ, so a distance a rule compares with a
+ * length made from δ often equals it, and which side of the test it fell on followed δ's last bits. Each such test
+ * moves its tie by this fraction, to a value nobody types:
+ * - R1 and R3 compare distances between surface points with the local δ, and move the tie toward inserting less
+ *   (docs/algorithm.md, "Rules"): R1 counts a feature vertex up to δ (1 + LatticeTieMargin) away as within δ, so a
+ *   feature vertex is still at least δ from every other (Lemma 2); R3 splits a restricted facet whose surface ball
+ *   reaches δ (1 + LatticeTieMargin), so every boundary triangle's surface ball, and its circumradius, is below that.
+ * - The regularisation's opening (RegularizeLabels) compares distances between voxel centres with reaches made from
+ *   its radius, and lengthens both reaches by the margin, which keeps what the round value did: at δ = 5 mm on voxels
+ *   of 2 × 3 × 2 mm the default scale gives an erosion reach of exactly 3 mm (ITK's k-means tissues: 57,695
+ *   tetrahedra, 67,339 at δ (1 − 10⁻¹²) without the margin).
  * Far above rounding, far below anything geometric, and above the randomized suite's largest perturbation of δ
  * (1e-6). */
 constexpr double LatticeTieMargin = 1e-4;

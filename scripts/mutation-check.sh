@@ -628,8 +628,9 @@ apply_mutation() {
         'topology.voxelsChangedAtPinches = filter.GetNumberOfTopologyRelabelledTetrahedra();'
       ;;
     regularization-reach-tie-margin-dropped)
-      mutate "$tree/include/DelaunayRefinementLabelRegularization.h" \
-        'constexpr double RegularizationReachTieMargin = 1e-4;' 'constexpr double RegularizationReachTieMargin = 0.0;'
+      mutate "$tree/src/DelaunayRefinementLabelRegularization.cxx" \
+        '* std::min({ spacing[0], spacing[1], spacing[2] })) * (1.0 + LatticeTieMargin)' \
+        '* std::min({ spacing[0], spacing[1], spacing[2] }))'
       ;;
     r3-tie-margin-dropped)
       mutate "$tree/src/DelaunayRefinementRules.h" 'm_Sizing.LocalDelta(center) * (1.0 + LatticeTieMargin)' \

@@ -1027,14 +1027,8 @@ public:
     // wider than the ball keeps its voxels, corners included, except beside what the opening removes (OpenLabel).
     // (The same ball for both steps, the textbook opening, takes the staircase's corners off every convex part:
     // balls of radius 5 and 7 mm at δ = 2 mm lost 2-4 % of their volume; bench/README.md, "At ac99b9d".)
-    // Both lengthened by RegularizationReachTieMargin: a voxel at a reach's lattice distance is within it whatever δ's
-    // last bits.
-    , m_Reach(radius > 0.0 ? (radius + 0.5 * std::min({ spacing[0], spacing[1], spacing[2] })) *
-                               (1.0 + RegularizationReachTieMargin)
-                           : 0.0)
-    , m_DilationReach(radius > 0.0 ? (radius + std::min({ spacing[0], spacing[1], spacing[2] })) *
-                                       (1.0 + RegularizationReachTieMargin)
-                                   : 0.0)
+    , m_Reach(Reach(radius, spacing, 0.5))
+    , m_DilationReach(Reach(radius, spacing, 1.0))
     , m_NumberOfVoxels(size[0] * size[1] * size[2])
   {}
 
@@ -1089,6 +1083,17 @@ public:
   }
 
 private:
+  /** `radius` plus `voxels` times the smallest spacing, lengthened by LatticeTieMargin: the distances between voxel
+   * centres are round and users choose round δ, so a reach often equals one of them, and a voxel at that distance
+   * must be within the reach whatever δ's last bits (as it is at the round value itself). 0 without a radius. */
+  static double
+  Reach(double radius, const Vector3 & spacing, double voxels)
+  {
+    return radius > 0.0
+             ? (radius + voxels * std::min({ spacing[0], spacing[1], spacing[2] })) * (1.0 + LatticeTieMargin)
+             : 0.0;
+  }
+
   /** Whether the erosion's reach is at least the grid's length along some axis: then every tissue voxel is within
    * the reach of the background outside the grid, and no tissue survives. */
   bool

@@ -139,8 +139,8 @@ std::vector<std::set<Label>>
 AllowedLabels(const Grid & grid, double radius)
 {
   const double        hmin = std::min({ grid.spacing[0], grid.spacing[1], grid.spacing[2] });
-  const double        reach = (radius + 0.5 * hmin) * (1.0 + RegularizationReachTieMargin);
-  const double        dilationReach = (radius + hmin) * (1.0 + RegularizationReachTieMargin);
+  const double        reach = (radius + 0.5 * hmin) * (1.0 + LatticeTieMargin);
+  const double        dilationReach = (radius + hmin) * (1.0 + LatticeTieMargin);
   std::array<long, 3> window{};
   std::array<long, 3> padding{};
   for (int axis = 0; axis < 3; ++axis)
@@ -454,7 +454,7 @@ INSTANTIATE_TEST_SUITE_P(Grids, LabelRegularizationAgainstDefinition,
 
 /** A radius whose reach is a distance of the voxel lattice (users choose round δ, and the lattice's distances are
  * round) gives the same labels as that radius changed in its last bits: which side of the reach a voxel at that
- * distance falls on must not follow the rounding (RegularizationReachTieMargin). Before the margin, the k-means
+ * distance falls on must not follow the rounding (LatticeTieMargin). Before the margin, the k-means
  * tissues at δ = 5 mm (radius 2 mm, reach 3 mm on voxels of 2 × 3 × 2 mm) gave 57,695 tetrahedra, and 67,339 at
  * δ (1 − 10⁻¹²). */
 TEST(LabelRegularization, RadiusesOnTheLatticeFollowTheRadiusNotItsLastBits)

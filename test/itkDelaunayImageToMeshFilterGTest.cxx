@@ -982,7 +982,7 @@ TEST(KmeansTissues, ProvenGuaranteesHoldWithoutSliverRemoval)
 
 /** At δ = 5 mm the default scale gives the opening a radius of 2 mm, and its erosion a reach of 3 mm: the voxels'
  * spacing along one axis. Which side of the reach those neighbours fell on followed δ's last bits, and took the mesh
- * with it (57,695 tetrahedra at δ, 67,339 at δ (1 − 10⁻¹²)), until the reaches got RegularizationReachTieMargin:
+ * with it (57,695 tetrahedra at δ, 67,339 at δ (1 − 10⁻¹²)), until the reaches got LatticeTieMargin:
  * now the regularisation is the same voxel for voxel, and the mesh moves by what the refinement's own ties move it. */
 TEST(KmeansTissues, TheRegularisationFollowsDeltaNotItsLastBits)
 {
