@@ -30,10 +30,11 @@ Usage: DelaunayImageToMeshCommandLineTopologyOptions.py PROGRAM OUTPUT_DIRECTORY
 import os
 import sys
 
+from DelaunayImageToMeshCommandLineIndependentQuality import KMEANS_TISSUES as KMEANS_TISSUES_AND_SELECTION
 from DelaunayImageToMeshCommandLineTesting import check, mesh_and_report
 
-KMEANS_TISSUES = "KmeansTest_T1KmeansPrelimSegmentation.nii.gz"
-TISSUES = ["--labels", "2,3,4,5,6"]
+# The real-image cases' k-means file and tissue selection, written once there.
+KMEANS_TISSUES, TISSUES = KMEANS_TISSUES_AND_SELECTION
 DELTA = ["--delta", "6"]
 
 # The filter's defaults, as the report must record them when no option is given.
