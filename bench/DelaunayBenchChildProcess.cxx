@@ -26,8 +26,10 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -51,6 +53,47 @@ StatusBytes(const std::string & field)
     }
   }
   throw std::runtime_error("/proc/self/status has no " + field + " line: peak memory cannot be measured");
+}
+
+/** Reads one byte of every page the program maps from its files (the executable's and the libraries' code and
+ * constants), so that those pages are resident before a mesher's peak is measured. A forked child does not inherit
+ * the parent's page table entries of file mappings: it maps them again as it runs, and its peak then counted the
+ * code the mesher ran, about 3.7 MB of ours and 1.5 MB of CGAL's on the 64-voxel sphere at δ = 4 mm, more than
+ * either allocated. That code does not grow with the image, and a process that meshes twice reads it once. */
+void
+ReadInTheProgramsFiles()
+{
+  constexpr std::uintptr_t PageBytes = 4096;
+  std::ifstream            maps("/proc/self/maps");
+  std::string              line;
+  unsigned char            sum = 0;
+  while (std::getline(maps, line))
+  {
+    // address range, permissions, offset, device, inode, path
+    std::istringstream fields(line);
+    std::string        range;
+    std::string        permissions;
+    std::string        offset;
+    std::string        device;
+    unsigned long      inode = 0;
+    std::string        path;
+    fields >> range >> permissions >> offset >> device >> inode >> path;
+    // Files only: not the heap, the stacks nor the kernel's pages ([vvar] may not be read).
+    if (permissions.empty() || permissions[0] != 'r' || inode == 0 || path.empty() || path[0] == '[')
+    {
+      continue;
+    }
+    const std::size_t    dash = range.find('-');
+    const std::uintptr_t begin = std::stoull(range.substr(0, dash), nullptr, 16);
+    const std::uintptr_t end = std::stoull(range.substr(dash + 1), nullptr, 16);
+    for (std::uintptr_t page = begin; page < end; page += PageBytes)
+    {
+      sum += *reinterpret_cast<const volatile unsigned char *>(page);
+    }
+  }
+  // Used, so that the reads are not optimised away.
+  static volatile unsigned char sink;
+  sink = sum;
 }
 
 void
@@ -240,6 +283,7 @@ RunChild(const std::function<MesherOutput()> & mesher, int descriptor, const std
     }
     // Free heap pages inherited from the parent would otherwise be reused without counting.
     ::malloc_trim(0);
+    ReadInTheProgramsFiles();
     ResetPeakResidentBytes();
     const std::size_t startBytes = StatusBytes("VmRSS:");
     MeasuredRun       run;
