@@ -535,6 +535,7 @@ DescribeRun(const TFilter & filter, const Options & options,
   topology.refineThickParts = filter.GetRefineThickParts();
   topology.thickPartsRefined = statistics.thickPartsRefined;
   topology.manifoldRefinementLevels = filter.GetManifoldRefinementLevels();
+  topology.manifoldRefinementRounds = statistics.manifoldRefinementRounds;
   return run;
 }
 
@@ -568,6 +569,19 @@ MeshImage(const Options & options)
               << " rounds, at its budget of inserted vertices (docs/algorithm.md, \"Topology\"); "
               << statistics.remainingNonManifoldVertices
               << " non-manifold vertices left (a larger delta or radius-edge bound gives fewer)\n";
+  }
+  if (!options.quiet && statistics.manifoldRefinementRounds > 0)
+  {
+    std::cout << "halved delta around non-manifold places: " << statistics.manifoldRefinementRounds << " rounds, "
+              << statistics.manifoldRefinementZones << " zones (--manifold-levels)\n";
+  }
+  // A gray image's labels are interpolated, not voxels: neither the regularisation nor its rounds can change them
+  // (docs/algorithm.md, "Topology"), and only the relabelling and the opt-in halving mend its places.
+  if (!options.quiet && options.isoValue && statistics.remainingNonManifoldVertices > 0 &&
+      options.manifoldRefinementLevels == 0)
+  {
+    std::cout << "non-manifold places left (a vertex and a label each): " << statistics.remainingNonManifoldVertices
+              << "; an iso-surface is not regularised at the scale of delta, --manifold-levels 2 refines around them\n";
   }
   const std::size_t forcedSliverSplits = statistics.sliverSplitsFailingAcceptance;
   if (!options.quiet && forcedSliverSplits > 0)

@@ -56,8 +56,9 @@ struct TopologyRun
   /** Whether the parts a δ thick that got no tetrahedron were sampled more finely, and how many were. */
   bool        refineThickParts{ false };
   std::size_t thickPartsRefined{ 0 };
-  /** The opt-in halving of δ where a boundary stayed non-manifold: the levels allowed. */
+  /** The opt-in halving of δ where a boundary stayed non-manifold: the levels allowed, and the rounds it made. */
   std::size_t manifoldRefinementLevels{ 0 };
+  std::size_t manifoldRefinementRounds{ 0 };
 };
 
 /** How a mesh was made and what it cost. The report records these as the caller gives them. */
@@ -223,7 +224,7 @@ PrintQualityReport(const QualityReport & report, std::ostream & out);
  * merge_labels, iso_value (null without one), max_vertices, regularization_scale, join_diagonal_voxels,
  * relabel_non_manifold_places, topology_rounds, refine_thick_parts, manifold_refinement_levels}, topology
  * {voxels_changed_at_pinches, relabelled_tetrahedra, regularization_rounds, locally_regularized_voxels,
- * budget_reached, thick_parts_refined}, vertices, tetrahedra,
+ * budget_reached, thick_parts_refined, manifold_refinement_rounds}, vertices, tetrahedra,
  * boundary_triangles, quality {min_dihedral_angle_deg, max_dihedral_angle_deg, max_radius_edge_ratio,
  * min_boundary_planar_angle_deg, inverted_tetrahedra, manifold, non_manifold_edges, non_manifold_vertices},
  * mesh_volume_mm3, segmented_volume_mm3, distance_to_marching_cubes {sample_spacing_mm, samples, mean_mm,

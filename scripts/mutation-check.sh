@@ -94,6 +94,10 @@
 #                                 lattice distance falls on follows δ's last bits again
 #   r3-tie-margin-dropped         R3 splits a facet whose surface ball reaches δ exactly, without LatticeTieMargin:
 #                                 balls of radius δ on the lattice follow δ's last bits again
+#   A bug in the opt-in halving of δ (added 2026-11-30, fifth stop):
+#   halving-needs-regularization  the repair halves δ only where the oracle is no regulariser at all, so that the places
+#                                 of an iso-surface, whose labels its regulariser cannot change, are never halved
+#                                 although the user asked for it (--manifold-levels), as before this stop
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -265,7 +269,7 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   opening-drops-beside-lost setup-ignores-abort setup-map-in-one-round regularization-progress-fixed
   openings-unchecked flat-cap-needs-three-facets cli-regularization-scale-ignored cli-relabelling-ignored
   cli-thick-parts-ignored cli-manifold-levels-ignored report-pinches-read-relabelled
-  regularization-reach-tie-margin-dropped r3-tie-margin-dropped)
+  regularization-reach-tie-margin-dropped r3-tie-margin-dropped halving-needs-regularization)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -635,6 +639,15 @@ apply_mutation() {
     r3-tie-margin-dropped)
       mutate "$tree/src/DelaunayRefinementRules.h" 'm_Sizing.LocalDelta(center) * (1.0 + LatticeTieMargin)' \
         'm_Sizing.LocalDelta(center)'
+      ;;
+    halving-needs-regularization)
+      mutate "$tree/src/DelaunayRefinementMesher.cxx" '      if (!repaired)
+      {
+        repaired = HalveDeltaAround(places);
+      }' '      if (!repaired && !m_Regularizer)
+      {
+        repaired = HalveDeltaAround(places);
+      }'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2

@@ -254,7 +254,8 @@ TopologyJson(const TopologyRun & topology)
            { "regularization_rounds", topology.regularizationRoundsMade },
            { "locally_regularized_voxels", topology.locallyRegularizedVoxels },
            { "budget_reached", topology.budgetReached },
-           { "thick_parts_refined", topology.thickPartsRefined } };
+           { "thick_parts_refined", topology.thickPartsRefined },
+           { "manifold_refinement_rounds", topology.manifoldRefinementRounds } };
 }
 
 /** {"5": count, "10": count, "15": count}: the thresholds are SliverAngleThresholds, written once. */

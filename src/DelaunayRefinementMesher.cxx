@@ -727,7 +727,10 @@ private:
       {
         repaired = regularized = RegularizeAround(places);
       }
-      else
+      // Where the labels could not be regularised (an interpolating oracle's labels are not voxels: a gray image's
+      // iso-surface), the opt-in halving of δ is what is left; before, such places ended the repair even when the
+      // user had asked for the halving.
+      if (!repaired)
       {
         repaired = HalveDeltaAround(places);
       }

@@ -450,7 +450,7 @@ TEST(QualityReport, JsonRecordsEveryParameterAndWhatTheTopologyStepsDid)
   report.run.maximumNumberOfVertices = 123456;
   TopologyRun & topology = report.run.topology;
   // Each value distinct, so that a key reading another member shows.
-  topology = { 0.25, true, 11, false, 12, 13, 14, 15, true, false, 16, 3 };
+  topology = { 0.25, true, 11, false, 12, 13, 14, 15, true, false, 16, 3, 17 };
   nlohmann::ordered_json         json = JsonOf(report);
   const nlohmann::ordered_json & parameters = json["parameters"];
   EXPECT_EQ(parameters["labels"], std::vector<int>({ 2, 7 })) << json;
@@ -470,6 +470,7 @@ TEST(QualityReport, JsonRecordsEveryParameterAndWhatTheTopologyStepsDid)
   EXPECT_EQ(done["locally_regularized_voxels"], 15);
   EXPECT_EQ(done["budget_reached"], true);
   EXPECT_EQ(done["thick_parts_refined"], 16);
+  EXPECT_EQ(done["manifold_refinement_rounds"], 17);
 
   // Every label (none selected), or an iso-value instead of labels.
   report.run.selectedLabels.clear();

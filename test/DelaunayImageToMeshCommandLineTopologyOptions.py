@@ -23,7 +23,9 @@ ITK's k-means tissues at delta = 6 mm (twice the largest spacing) need every ste
 pinches, remove components thinner than the scale, relabel tetrahedra, make regularisation rounds and refine a thick
 part. The test first asserts that they do (else the image no longer tests anything), then turns each step off alone
 and asserts that exactly that step did nothing, with the option recorded. The opt-in halving of delta and the vertex
-cap are checked as recorded parameters.
+cap are checked as recorded parameters on the k-means tissues, where the rounds leave nothing to halve; the halving
+itself on an iso-surface of ITK's raw T1 image, whose interpolated labels no regularisation can change, so that only
+the relabelling and the halving reach its non-manifold places.
 
 Usage: DelaunayImageToMeshCommandLineTopologyOptions.py PROGRAM OUTPUT_DIRECTORY EXAMPLES_DATA"""
 
@@ -36,6 +38,9 @@ from DelaunayImageToMeshCommandLineTesting import check, mesh_and_report
 # The real-image cases' k-means file and tissue selection, written once there.
 KMEANS_TISSUES, TISSUES = KMEANS_TISSUES_AND_SELECTION
 DELTA = ["--delta", "6"]
+# A gray image, meshed where its linearly interpolated value is >= 60: 23 non-manifold vertices left at 4.5 mm.
+RAW_T1 = "KmeansTest_T1UCharRaw.nii.gz"
+ISO_SURFACE = ["--iso", "60", "--delta", "4.5"]
 
 # The filter's defaults, as the report must record them when no option is given.
 DEFAULT_PARAMETERS = {
@@ -112,6 +117,25 @@ def main(program, output, examples_data):
                               "max_vertices": 900_000}, " ".join(opt_in))
     check(sorted(label["label"] for label in report["labels"]) == [2, 3],
           f"--labels 2,3: the report's labels are {[label['label'] for label in report['labels']]}")
+
+    # The halving where nothing else can mend a place: an iso-surface's labels are interpolated, not voxels.
+    raw_t1 = os.path.join(examples_data, RAW_T1)
+    _, plain = mesh_and_report(program, raw_t1, output, "iso", options=ISO_SURFACE)
+    check(plain["quality"]["non_manifold_vertices"] > 0, f"{RAW_T1} {' '.join(ISO_SURFACE)} is a closed manifold "
+          "without the halving: it no longer tests it")
+    check(plain["topology"]["manifold_refinement_rounds"] == 0 and plain["topology"]["regularization_rounds"] == 0,
+          f"{RAW_T1} {' '.join(ISO_SURFACE)}: without --manifold-levels {plain['topology']}")
+    halving = ["--manifold-levels", "2"]
+    _, halved = mesh_and_report(program, raw_t1, output, "iso-halved", options=ISO_SURFACE + halving)
+    check_parameters(halved, {"iso_value": 60.0, "manifold_refinement_levels": 2}, " ".join(ISO_SURFACE + halving))
+    check(halved["topology"]["manifold_refinement_rounds"] > 0,
+          f"{' '.join(ISO_SURFACE + halving)}: delta was never halved ({halved['topology']})")
+    check(halved["quality"]["non_manifold_vertices"] < plain["quality"]["non_manifold_vertices"],
+          f"{' '.join(ISO_SURFACE + halving)}: {halved['quality']['non_manifold_vertices']} non-manifold vertices, "
+          f"{plain['quality']['non_manifold_vertices']} without the halving")
+    print(f"iso-surface: {plain['quality']['non_manifold_vertices']} non-manifold vertices, "
+          f"{halved['quality']['non_manifold_vertices']} after {halved['topology']['manifold_refinement_rounds']} "
+          f"rounds of halving; {halved['tetrahedra']} tetrahedra against {plain['tetrahedra']}")
 
 
 if __name__ == "__main__":
