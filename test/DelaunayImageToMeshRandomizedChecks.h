@@ -1405,8 +1405,10 @@ LargestDistanceToAnotherLabel(const TImage & image, const FilterSettings & setti
 }
 
 /** Whether "every part thinner than the regularisation scale" may be the outcome: the opening keeps every voxel whose
- * nearest voxel of another label is farther than its reach (RegularizationScale x δ + half the smallest spacing), so
- * it cannot remove them all when one such voxel exists. Returns an empty string, or what contradicts the outcome. */
+ * nearest voxel of another label is farther than its reach (RegularizationScale x δ + half the smallest spacing,
+ * lengthened by LatticeTieMargin, as the opening's own: a voxel at a lattice distance equal to the reach is within it
+ * whatever δ's last bits), so it cannot remove them all when one such voxel exists. Returns an empty string, or what
+ * contradicts the outcome. */
 template <typename TImage>
 std::string
 ContradictsRegularizedAway(const TImage & image, const FilterSettings & settings)
@@ -1415,7 +1417,8 @@ ContradictsRegularizedAway(const TImage & image, const FilterSettings & settings
   // The filter's δ: the one set, or its automatic 4 x the largest spacing.
   const double delta = settings.surfaceSamplingDistance > 0.0 ? settings.surfaceSamplingDistance
                                                               : 4.0 * std::max({ spacing[0], spacing[1], spacing[2] });
-  const double reach = settings.regularizationScale * delta + 0.5 * std::min({ spacing[0], spacing[1], spacing[2] });
+  const double reach = (settings.regularizationScale * delta + 0.5 * std::min({ spacing[0], spacing[1], spacing[2] })) *
+                       (1.0 + dr::LatticeTieMargin);
   const double thickest = LargestDistanceToAnotherLabel(image, settings);
   if (thickest > reach * (1.0 + 1e-9))
   {
