@@ -98,6 +98,8 @@
 #   halving-needs-regularization  the repair halves δ only where the oracle is no regulariser at all, so that the places
 #                                 of an iso-surface, whose labels its regulariser cannot change, are never halved
 #                                 although the user asked for it (--manifold-levels), as before this stop
+#   r3-finer-sample-not-noted     R3's feature vertex beside a zone, at a facet's shortest edge, is exported at the δ of
+#                                 its point instead of the smaller ball radius it honours
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -269,7 +271,8 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   opening-drops-beside-lost setup-ignores-abort setup-map-in-one-round regularization-progress-fixed
   openings-unchecked flat-cap-needs-three-facets cli-regularization-scale-ignored cli-relabelling-ignored
   cli-thick-parts-ignored cli-manifold-levels-ignored report-pinches-read-relabelled
-  regularization-reach-tie-margin-dropped r3-tie-margin-dropped halving-needs-regularization)
+  regularization-reach-tie-margin-dropped r3-tie-margin-dropped halving-needs-regularization
+  r3-finer-sample-not-noted)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -639,6 +642,10 @@ apply_mutation() {
     r3-tie-margin-dropped)
       mutate "$tree/src/DelaunayRefinementRules.h" 'm_Sizing.LocalDelta(center) * (1.0 + LatticeTieMargin)' \
         'm_Sizing.LocalDelta(center)'
+      ;;
+    r3-finer-sample-not-noted)
+      mutate "$tree/src/DelaunayRefinementMesher.cxx" '        if (action.ballRadius >= m_Sizing.FinestDelta())' \
+        '        if (false)'
       ;;
     halving-needs-regularization)
       mutate "$tree/src/DelaunayRefinementMesher.cxx" '      if (!repaired)

@@ -159,7 +159,18 @@ private:
         return true;
       case Rule::R3:
         ++m_Statistics.insertionsR3;
-        return m_State.InsertFeatureVertex(action.point, action.localDelta, cell);
+        if (!m_State.InsertFeatureVertex(action.point, action.localDelta, cell))
+        {
+          return false;
+        }
+        // Beside a zone, a facet's shortest edge can be R3's threshold, and the ball it splits smaller than the δ
+        // at its centre: the new vertex honours the ball's radius (LocalSampling::NoteFinerSample). A radius below
+        // every zone's δ comes from R4′'s points only (σ > 0), which give Lemma 2's spacing up and are not exported.
+        if (action.ballRadius >= m_Sizing.FinestDelta())
+        {
+          m_Sizing.NoteFinerSample(action.point, action.ballRadius);
+        }
+        return true;
       case Rule::R4:
         ++m_Statistics.insertionsR4;
         return m_State.InsertVertex(action.point, VertexKind::Free, cell).has_value();

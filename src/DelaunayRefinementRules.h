@@ -58,6 +58,8 @@ struct Action
   /** The sampling distance the insertion honours (the local δ, or less for R3, see LargeSurfaceBall): a new
    * feature vertex clears the free vertices within twice it, as the paper's do within 2δ. */
   double localDelta;
+  /** R3: the surface ball's radius, how far the new vertex is from every vertex (the ball is empty); 0 otherwise. */
+  double ballRadius{ 0.0 };
 };
 
 /** R2 splits an intersecting tetrahedron whose circumradius reaches this many times the local δ; the paper uses 2.
@@ -334,7 +336,7 @@ private:
       if (ball.ReachesThreshold() && ball.squaredRadius > bestSquaredRadius)
       {
         bestSquaredRadius = ball.squaredRadius;
-        best = Action{ Rule::R3, ball.center, ball.threshold };
+        best = Action{ Rule::R3, ball.center, ball.threshold, std::sqrt(ball.squaredRadius) };
       }
     }
     return best;

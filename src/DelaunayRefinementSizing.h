@@ -73,14 +73,17 @@ public:
     return SmallestDeltaMeeting(center, m_AnyZoneReachesCircumballs ? radius : 0.0);
   }
 
-  /** Records that R2 inserted a vertex at `point` honouring `delta`, the δ of a zone its circumball met
-   * (DeltaForCircumball), when that is finer than the δ of the zones holding `point`: the vertex lies outside the
-   * zone, and its edges are bounded by `delta`, not by LocalDelta there. The exported sizing reads it back
-   * (SamplingDistanceOf), so that it states what the refinement honoured at every point. */
+  /** Records that a vertex was inserted at `point` honouring `delta`, when that is finer than the δ of the zones
+   * holding `point`: R2's free vertex for a circumball that met a zone (DeltaForCircumball), which lies outside the
+   * zone; R3's feature vertex for a facet whose shortest edge was its threshold, which happens beside a zone, where the
+   * zone's short edges reach its facets (RefinementRules::SurfaceBallThreshold). Such a vertex's edges are bounded by
+   * `delta`, not by LocalDelta there. The exported sizing reads it back (SamplingDistanceOf), so that it states what
+   * the refinement honoured at every point, even where the zone's own points are not in the mesh (the randomized
+   * SaltAndPepper 2240051: an R3 point 0.90 δ from its neighbours, with every output point at δ). */
   void
   NoteFinerSample(const Vector3 & point, double delta)
   {
-    if (m_AnyZoneReachesCircumballs && delta < LocalDelta(point))
+    if (delta < LocalDelta(point))
     {
       double & recorded = m_FinerSamples.emplace(point, delta).first->second;
       recorded = std::min(recorded, delta);
@@ -121,6 +124,7 @@ public:
     radius = std::min(radius, ZoneRadiusFactor * m_Delta);
     m_ZoneCenters.Insert(point, m_Zones.size());
     m_Zones.push_back({ point, radius, delta, reach });
+    m_FinestDelta = std::min(m_FinestDelta, delta);
     m_AnyZoneReachesCircumballs = m_AnyZoneReachesCircumballs || reach == ZoneReach::Circumballs;
     return radius;
   }
@@ -131,15 +135,11 @@ public:
     return m_Zones.size();
   }
 
+  /** The smallest δ of the zones, δ without one (R3 asks for it at each insertion). */
   double
   FinestDelta() const
   {
-    double finest = m_Delta;
-    for (const Zone & zone : m_Zones)
-    {
-      finest = std::min(finest, zone.delta);
-    }
-    return finest;
+    return m_FinestDelta;
   }
 
 private:
@@ -177,10 +177,12 @@ private:
   };
 
   double                   m_Delta;
+  double                   m_FinestDelta{ m_Delta };
   std::vector<Zone>        m_Zones;
   SpatialGrid<std::size_t> m_ZoneCenters;
   bool                     m_AnyZoneReachesCircumballs{ false };
-  /** NoteFinerSample's points; few, since only zones of reach ZoneReach::Circumballs make them. */
+  /** NoteFinerSample's points; few, since only zones make them (R2's near a zone of reach ZoneReach::Circumballs, R3's
+   * beside any zone's short edges). */
   std::map<Vector3, double> m_FinerSamples;
 };
 

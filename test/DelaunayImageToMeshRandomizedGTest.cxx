@@ -1208,6 +1208,19 @@ TEST(RandomizedRegression, RegularisedAwayIsJudgedOnTheSelectedLabels)
   EXPECT_TRUE(report.problems.empty()) << Describe(randomCase) << ": " << report.problems.front();
 }
 
+/** R3 splits a facet beside a zone of finer δ at its shortest edge when that is below the local δ, so its new feature
+ * vertex comes closer than δ to its neighbours; the exported sizing must say so at that vertex, or a check of every
+ * edge against it fails where the refinement kept its own bound. Found by the search of seeds 239,200-240,799:
+ * SaltAndPepper 2240051 (ρ = 2, σ = 0, 2 × 0.51 × 0.59 mm voxels, δ = 1.39 mm) sampled a thick part at 0.77 mm,
+ * whose points all ended outside the mesh, and R3 put a point 0.90 δ from two others beside it, exported at δ. The
+ * case must mesh and pass every check, Lemma 2's edges against the exported sizing among them. */
+TEST(RandomizedRegression, RThreePointsBesideAZoneExportTheDeltaTheyHonoured)
+{
+  const RandomCase randomCase = MakeCase(Family::SaltAndPepper, 2240051);
+  ASSERT_EQ(randomCase.settings.minimumDihedralAngle, 0.0) << "the case is no longer the one";
+  ExpectMeshPassingEveryCheck(randomCase);
+}
+
 /** The check of "every part thinner than the regularisation scale" takes the opening's tie margin (LatticeTieMargin):
  * a voxel exactly one spacing from another label, where the reach is that spacing to rounding, is within the opening's
  * reach, and the check had called the filter's right outcome a contradiction (found by the search of seeds 237,600-

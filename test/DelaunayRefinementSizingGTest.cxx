@@ -108,3 +108,16 @@ TEST(LocalSampling, AFreeVertexOutsideTheZoneItWasInsertedForKeepsTheZonesDelta)
   sizing.NoteFinerSample(AlongX(0.5), 0.0625);
   EXPECT_EQ(sizing.SamplingDistanceOf(AlongX(0.5)), 0.0625) << "finer than the zone that holds it";
 }
+
+/** R3's feature vertex beside a zone of reach ZoneReach::Points, inserted at a facet's shortest edge: the note is kept
+ * whatever zones exist (it was kept near zones of reach ZoneReach::Circumballs only). */
+TEST(LocalSampling, AFinerSampleIsRecordedBesideAnyZone)
+{
+  dr::detail::LocalSampling sizing(Delta);
+  sizing.AddZone(ZoneCenter, 0.25, 0.75);
+  const dr::Vector3 beside = AlongX(1.0);
+  ASSERT_EQ(sizing.LocalDelta(beside), Delta);
+  sizing.NoteFinerSample(beside, 0.6);
+  EXPECT_EQ(sizing.SamplingDistanceOf(beside), 0.6);
+  EXPECT_EQ(sizing.LocalDelta(beside), Delta) << "the rules' reading at the point does not change";
+}
