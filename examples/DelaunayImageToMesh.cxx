@@ -575,13 +575,13 @@ MeshImage(const Options & options)
     std::cout << "halved delta around non-manifold places: " << statistics.manifoldRefinementRounds << " rounds, "
               << statistics.manifoldRefinementZones << " zones (--manifold-levels)\n";
   }
-  // A gray image's labels are interpolated, not voxels: neither the regularisation nor its rounds can change them
-  // (docs/algorithm.md, "Topology"), and only the relabelling and the opt-in halving mend its places.
+  // An iso-surface is regularised through its voxels' values (docs/algorithm.md, "Topology"); places are left where
+  // the topology options were turned off or the rounds ran out, and the opt-in halving is what reaches them then.
   if (!options.quiet && options.isoValue && statistics.remainingNonManifoldVertices > 0 &&
       options.manifoldRefinementLevels == 0)
   {
     std::cout << "non-manifold places left (a vertex and a label each): " << statistics.remainingNonManifoldVertices
-              << "; an iso-surface is not regularised at the scale of delta, --manifold-levels 2 refines around them\n";
+              << "; --manifold-levels 2 refines around them\n";
   }
   const std::size_t forcedSliverSplits = statistics.sliverSplitsFailingAcceptance;
   if (!options.quiet && forcedSliverSplits > 0)

@@ -132,8 +132,9 @@ public:
    * changes label, never a tissue's to the background, so the union of the tissues only grows (see
    * delaunay_refinement::RemoveVoxelPinches). There the voxels' own surface is not a manifold, so a mesh of them
    * as they are would not be one either; afterwards every label's voxel surface is a 2-manifold (a well-composed
-   * label image). Only with nearest-neighbour labels (the default interpolator); other interpolators define their
-   * own surface. Default on. The name is the option's first meaning (joining a tissue across the background). */
+   * label image). With nearest-neighbour labels (the default interpolator), and with an iso-value and linear
+   * interpolation, whose changed voxels get values on their new side; other interpolators define their own surface.
+   * Default on. The name is the option's first meaning (joining a tissue across the background). */
   itkSetMacro(JoinDiagonalVoxels, bool);
   itkGetConstMacro(JoinDiagonalVoxels, bool);
   itkBooleanMacro(JoinDiagonalVoxels);
@@ -145,7 +146,8 @@ public:
    * survived (delaunay_refinement::RegularizeLabels). A tissue's parts thinner than 2 × RegularizationScale × δ
    * (one-voxel bridges, sheets, speckle, contacts along a voxel edge) go to their neighbours, and its slits and
    * gaps thinner than that are filled; every part that holds a ball of that radius stays. What changed is in
-   * GetRegularizationReport(). Only with nearest-neighbour labels (the default interpolator). Default
+   * GetRegularizationReport(). With nearest-neighbour labels (the default interpolator), and with an iso-value and
+   * linear interpolation (the changed voxels' values are carried to their new side). Default
    * DefaultRegularizationScale; 0 = the voxels as they are; valid: [0, 0.5] (a ball of diameter δ always stays). */
   itkSetMacro(RegularizationScale, double);
   itkGetConstMacro(RegularizationScale, double);
@@ -156,10 +158,11 @@ public:
   /** Where a boundary still comes out non-manifold after the refinement and the relabelling
    * (RelabelNonManifoldPlaces), the labels are regularised in a ball of radius δ around each such place (the place's
    * label fills the ball or leaves it, whichever changes fewer voxels) and the refinement resumes there, at most
-   * this many rounds. Only with nearest-neighbour labels. The rounds also stop once they have inserted more than a
-   * few times the vertices the mesh had when they began (GetTopologyRegularizationBudgetReached(); docs/algorithm.md,
-   * "Topology", step 2); the places left are counted in GetNumberOfRemainingNonManifoldVertices().
-   * Default delaunay_refinement::RefinementParameters{}.topologyRegularizationRounds; 0 = never; valid: [0, 20]. */
+   * this many rounds. With nearest-neighbour labels, and with an iso-value and linear interpolation. The rounds also
+   * stop once they have inserted more than a few times the vertices the mesh had when they began
+   * (GetTopologyRegularizationBudgetReached(); docs/algorithm.md, "Topology", step 2); the places left are counted in
+   * GetNumberOfRemainingNonManifoldVertices(). Default
+   * delaunay_refinement::RefinementParameters{}.topologyRegularizationRounds; 0 = never; valid: [0, 20]. */
   itkSetMacro(TopologyRegularizationRounds, unsigned int);
   itkGetConstMacro(TopologyRegularizationRounds, unsigned int);
   /** How many voxels the last update's local regularisation (TopologyRegularizationRounds) changed. */

@@ -92,12 +92,15 @@ public:
   double
   SurfaceTolerance() const override;
 
-  /** With voxelwise labels: in the ball around each place (voxel centres within `radius`, the label image's
+  /** With voxelwise labels, or an iso-value's side of linear interpolation (whose changed voxels get values on their
+   * new side, CarryLabelsIntoValues()): in the ball around each place (voxel centres within `radius`, the label image's
    * outer layer of background excepted), the place's label takes every voxel when it holds at least half of them,
    * else gives its voxels to the label most frequent among the others there (the smaller on a tie). Then the
    * diagonal contacts near the changed voxels are joined again (when asked); a ball whose every change that undid
    * takes the other choice, and the contacts near it are joined again. The feature transform is updated. No ball is
-   * returned when the labels end as they were, nor for other interpolators, which define their own surface. */
+   * returned when the labels end as they were, nor for other interpolators, which define their own surface. A
+   * returned ball reaches a voxel diagonal past every voxel it changed: the trilinear values change in the cubes
+   * around a changed voxel's centre. */
   std::vector<delaunay_refinement::Ball>
   RegularizeAround(const std::vector<delaunay_refinement::NonManifoldPlace> & places, double radius) override;
 
@@ -141,8 +144,8 @@ public:
   bool
   LabelsDifferFromTheSelection() const
   {
-    return m_LabelsAreVoxelwise && (m_RegularizationReport.changedVoxels > 0 || m_NumberOfJoiningVoxels > 0 ||
-                                    m_NumberOfLocallyRegularizedVoxels > 0);
+    return LabelsAreRegularizable() && (m_RegularizationReport.changedVoxels > 0 || m_NumberOfJoiningVoxels > 0 ||
+                                        m_NumberOfLocallyRegularizedVoxels > 0);
   }
 
   /** What the regularisation (ImageLabelMapping::regularizationRadius) did to each label. */
@@ -187,6 +190,20 @@ private:
    * `values`, as the full build has them before its pass along z. */
   void
   MakeValuesOfSlice(SizeValueType slice, uint32_t * values) const;
+  /** Whether the regularisation may change the labels: voxel labels, or an iso-value's side of linear
+   * interpolation, whose voxels' values can follow their labels. */
+  bool
+  LabelsAreRegularizable() const
+  {
+    return m_LabelsAreVoxelwise || m_LabelsCarryIntoValues;
+  }
+  /** With m_LabelsCarryIntoValues: gives each voxel of the label image at `offsets` (every voxel when null) that
+   * lies in the input a value on its label's side of the iso-value: the input's own where that is on the side, else
+   * its mirror image in the iso-value (2 iso - value, moved to the side where the type's rounding or range would
+   * keep it off it). The mirror keeps how far the voxel is from the iso-value, so that the surface between a changed
+   * voxel and its neighbours stays as far from their centres as it was from the changed voxel's own. */
+  void
+  CarryLabelsIntoValues(const std::vector<SizeValueType> * offsets);
   /** Changes the labels in one ball (RegularizeAround), by the majority's choice or, with `otherChoice`, by the other
    * one (a fill for a cut, a cut for a fill); appends each voxel it changes to `changes`. */
   void
@@ -312,6 +329,14 @@ private:
   ImageLabelSelection                     m_Selection;
   /** Whether LabelAt() is the label of the nearest voxel (a nearest-neighbour interpolator). */
   bool m_LabelsAreVoxelwise;
+  /** Whether LabelAt() is an iso-value's side of the linearly interpolated values: then the value at a voxel centre
+   * is the voxel's, its side is the voxel's label, and a voxel whose label the regularisation changes gets a value on
+   * its new side (CarryLabelsIntoValues()), so that the interpolated surface follows the regularised voxels. */
+  bool m_LabelsCarryIntoValues;
+  /** The values LabelAt() interpolates: the input's, or once a label changed (iso-value mode) m_CarriedValues. */
+  const InputImageType * m_Values;
+  /** The input's values on the label image's voxels inside the input, with the changed voxels' carried. */
+  typename InputImageType::Pointer m_CarriedValues;
   /** True in the constructor only (SetUpCheckpoint()). */
   bool m_SettingUp{ true };
   /** The parts of the labels for PartsHoldingNone(), found at its first call and again after RegularizeAround()

@@ -20,6 +20,7 @@
 
 #include "itkImageLabelOracle.h"
 
+#include "itkLinearInterpolateImageFunction.h"
 #include "itkMultiThreaderBase.h"
 #include "itkNearestNeighborInterpolateImageFunction.h"
 
@@ -40,6 +41,10 @@ ImageLabelOracle<TInputImage>::ImageLabelOracle(const InputImageType * image, co
   , m_Selection(m_Mapping)
   , m_LabelsAreVoxelwise(
       dynamic_cast<const NearestNeighborInterpolateImageFunction<InputImageType, double> *>(interpolator) != nullptr)
+  , m_LabelsCarryIntoValues(
+      m_Mapping.useIsoValue &&
+      dynamic_cast<const LinearInterpolateImageFunction<InputImageType, double> *>(interpolator) != nullptr)
+  , m_Values(image)
 {
   const auto & spacing = image->GetSpacing();
   m_SurfaceTolerance = 1e-4 * *std::min_element(spacing.Begin(), spacing.End());
@@ -113,7 +118,7 @@ ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
   m_LabelImage = m_Selection.SelectedLabelImage(*image, kept);
   m_BufferStrides = { 1, kept.GetSize()[0], kept.GetSize()[0] * kept.GetSize()[1] };
   SetUpCheckpoint(SetUpProgressAfter::selection);
-  if (m_Mapping.regularizationRadius > 0.0 && m_LabelsAreVoxelwise && m_NumberOfObjectVoxels > 0)
+  if (m_Mapping.regularizationRadius > 0.0 && LabelsAreRegularizable() && m_NumberOfObjectVoxels > 0)
   {
     // Regularisation only moves labels between voxels that are already inside the object's padded bounds.
     const auto & spacing = image->GetSpacing();
@@ -131,7 +136,7 @@ ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
     CountObjectVoxels();
   }
   SetUpCheckpoint(SetUpProgressAfter::regularization);
-  if (m_Mapping.joinDiagonalVoxels && m_LabelsAreVoxelwise)
+  if (m_Mapping.joinDiagonalVoxels && LabelsAreRegularizable())
   {
     // A changed voxel is in a block with an object voxel, so within one voxel of the object's bounds; the label
     // image's border of background holds it. Voxels change between tissues too, so the object is counted again.
@@ -141,6 +146,10 @@ ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
                                               nullptr,
                                               m_Mapping.numberOfThreads);
     CountObjectVoxels();
+  }
+  if (m_LabelsCarryIntoValues && (m_RegularizationReport.changedVoxels > 0 || m_NumberOfJoiningVoxels > 0))
+  {
+    CarryLabelsIntoValues(nullptr);
   }
   SetUpCheckpoint(SetUpProgressAfter::pinchRemoval);
   if (m_NumberOfObjectVoxels == 0)
@@ -636,10 +645,10 @@ ImageLabelOracle<TInputImage>::LabelAt(const Vector3 & point) const -> LabelType
   // so the nearest voxel must be in the buffer too.
   const PointType            physicalPoint(point.data());
   ContinuousIndex<double, 3> continuousIndex;
-  m_Image->TransformPhysicalPointToContinuousIndex(physicalPoint, continuousIndex);
+  m_Values->TransformPhysicalPointToContinuousIndex(physicalPoint, continuousIndex);
   IndexType nearestIndex;
   nearestIndex.CopyWithRound(continuousIndex);
-  if (!m_Interpolator->IsInsideBuffer(continuousIndex) || !m_Image->GetBufferedRegion().IsInside(nearestIndex))
+  if (!m_Interpolator->IsInsideBuffer(continuousIndex) || !m_Values->GetBufferedRegion().IsInside(nearestIndex))
   {
     return delaunay_refinement::BackgroundLabel;
   }

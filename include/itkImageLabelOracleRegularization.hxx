@@ -23,11 +23,15 @@
 
 #include "itkImageLabelOracle.h"
 
+#include "itkImageAlgorithm.h"
+#include "itkImageRegionConstIterator.h"
+#include "itkImageRegionIterator.h"
 #include "itkImageRegionIteratorWithIndex.h"
 
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -42,6 +46,93 @@ ImageLabelOracle<TInputImage>::CountObjectVoxels()
   const auto        count = m_LabelImage->GetBufferedRegion().GetNumberOfPixels();
   m_NumberOfObjectVoxels = static_cast<SizeValueType>(std::count_if(
     labels, labels + count, [](LabelType label) { return label != delaunay_refinement::BackgroundLabel; }));
+}
+
+template <typename TInputImage>
+void
+ImageLabelOracle<TInputImage>::CarryLabelsIntoValues(const std::vector<SizeValueType> * offsets)
+{
+  using ValueType = typename InputImageType::PixelType;
+  using ValueLimits = NumericTraits<ValueType>;
+  const auto & labelRegion = m_LabelImage->GetBufferedRegion();
+  if (m_CarriedValues.IsNull())
+  {
+    // The label image's voxels inside the input: every cube of voxel centres with an object corner is among them
+    // (the label image has a layer of background around the object), so the values elsewhere never decide a label.
+    auto region = labelRegion;
+    if (!region.Crop(m_Image->GetBufferedRegion()))
+    {
+      return;
+    }
+    m_CarriedValues = InputImageType::New();
+    m_CarriedValues->CopyInformation(m_Image);
+    m_CarriedValues->SetRegions(region);
+    m_CarriedValues->Allocate();
+    ImageAlgorithm::Copy(m_Image.GetPointer(), m_CarriedValues.GetPointer(), region, region);
+    auto interpolator = LinearInterpolateImageFunction<InputImageType, double>::New();
+    interpolator->SetInputImage(m_CarriedValues);
+    m_Interpolator = interpolator;
+    m_Values = m_CarriedValues;
+  }
+  const double iso = m_Mapping.isoValue;
+  // The type's values nearest to the iso-value on each side: for integers the smallest at or above it and the one
+  // below that, for floating point the iso-value rounded to the type and stepped across it where the rounding left it
+  // on the wrong side. Out of the type's range each is its nearest end (no voxel can then be on that side).
+  const double lowest = static_cast<double>(ValueLimits::NonpositiveMin());
+  const double highest = static_cast<double>(ValueLimits::max());
+  ValueType    firstAbove{};
+  ValueType    lastBelow{};
+  if constexpr (std::is_integral_v<ValueType>)
+  {
+    firstAbove = static_cast<ValueType>(std::clamp(std::ceil(iso), lowest, highest));
+    lastBelow = static_cast<ValueType>(std::clamp(std::ceil(iso) - 1.0, lowest, highest));
+  }
+  else
+  {
+    firstAbove = lastBelow = static_cast<ValueType>(std::clamp(iso, lowest, highest));
+    if (static_cast<double>(firstAbove) < iso)
+    {
+      firstAbove = std::nextafter(firstAbove, ValueLimits::max());
+    }
+    if (static_cast<double>(lastBelow) >= iso)
+    {
+      lastBelow = std::nextafter(lastBelow, ValueLimits::NonpositiveMin());
+    }
+  }
+  const auto onSide = [&](double wanted, bool object) {
+    const auto value =
+      static_cast<ValueType>(std::clamp(std::is_integral_v<ValueType> ? std::round(wanted) : wanted, lowest, highest));
+    if (object)
+    {
+      return static_cast<double>(value) >= iso ? value : firstAbove;
+    }
+    return static_cast<double>(value) < iso ? value : lastBelow;
+  };
+  const auto carried = [&](ValueType original, LabelType label) {
+    const bool   object = label != delaunay_refinement::BackgroundLabel;
+    const double value = static_cast<double>(original);
+    return (value >= iso) == object ? original : onSide(2.0 * iso - value, object);
+  };
+  const auto & valueRegion = m_CarriedValues->GetBufferedRegion();
+  if (offsets)
+  {
+    const LabelType * labels = m_LabelImage->GetBufferPointer();
+    for (const SizeValueType offset : *offsets)
+    {
+      const IndexType index = m_LabelImage->ComputeIndex(static_cast<OffsetValueType>(offset));
+      if (valueRegion.IsInside(index))
+      {
+        m_CarriedValues->SetPixel(index, carried(m_Image->GetPixel(index), labels[offset]));
+      }
+    }
+    return;
+  }
+  // Every voxel, right after the copy: its value is still the input's.
+  ImageRegionConstIterator<LabelImageType> label(m_LabelImage, valueRegion);
+  for (ImageRegionIterator<InputImageType> value(m_CarriedValues, valueRegion); !value.IsAtEnd(); ++value, ++label)
+  {
+    value.Set(carried(value.Get(), label.Get()));
+  }
 }
 
 template <typename TInputImage>
@@ -144,7 +235,7 @@ ImageLabelOracle<TInputImage>::RegularizeAround(const std::vector<delaunay_refin
                                                 double                                                     radius)
 {
   std::vector<delaunay_refinement::Ball> balls;
-  if (!m_LabelsAreVoxelwise || m_NumberOfObjectVoxels == 0)
+  if (!LabelsAreRegularizable() || m_NumberOfObjectVoxels == 0)
   {
     return balls;
   }
@@ -269,6 +360,15 @@ ImageLabelOracle<TInputImage>::RegularizeAround(const std::vector<delaunay_refin
       }
     }
   }
+  if (m_LabelsCarryIntoValues)
+  {
+    std::vector<SizeValueType> changedVoxels;
+    for (const auto & [offset, before] : originals)
+    {
+      changedVoxels.push_back(offset);
+    }
+    CarryLabelsIntoValues(&changedVoxels);
+  }
   UpdateNearestInterfaceMap(slices, originals);
   // A changed voxel's cube reaches half a diagonal past its centre: the balls grow by a voxel's diagonal to hold
   // every voxel they changed, and every voxel the pinch removal changed (near the balls, or a chain of changes
@@ -298,6 +398,9 @@ ImageLabelOracle<TInputImage>::PartsHoldingNone(const delaunay_refinement::Label
                                                 double maximumVolume) const
 {
   std::vector<delaunay_refinement::UnmeshedPart> parts;
+  // An iso-surface's parts are the interpolated values', not the voxels': a part of voxels just above the iso-value
+  // holds far less than its voxels. Measured on ITK's raw T1 at iso-value 100 and delta = 2 mm, a census of the voxel
+  // parts refined 687 of them and still found 80 without a tetrahedron, for 1.36 x the time.
   if (!m_LabelsAreVoxelwise || m_NumberOfObjectVoxels == 0)
   {
     return parts;

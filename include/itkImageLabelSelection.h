@@ -45,13 +45,14 @@ struct ImageLabelMapping
   /** Gray values: label 1 where the interpolated value is >= isoValue, 0 elsewhere. */
   bool   useIsoValue{ false };
   double isoValue{ 0.0 };
-  /** With nearest-neighbour labels: remove the voxel pinches of every label, the background included (see
+  /** With nearest-neighbour labels, or an iso-value of linear interpolation (whose voxels carry their labels into
+   * their values: ImageLabelOracle): remove the voxel pinches of every label, the background included (see
    * delaunay_refinement::RemoveVoxelPinches), so that every label's voxel surface is a 2-manifold. Off here (the
    * voxels as they are); the filter turns it on. */
   bool joinDiagonalVoxels{ false };
-  /** With nearest-neighbour labels: open every label, the background included, with a ball of this radius
-   * (physical units) before anything else (see delaunay_refinement::RegularizeLabels). 0 = the voxels as they
-   * are. */
+  /** With nearest-neighbour labels, or an iso-value of linear interpolation: open every label, the background
+   * included, with a ball of this radius (physical units) before anything else (see
+   * delaunay_refinement::RegularizeLabels). 0 = the voxels as they are. */
   double regularizationRadius{ 0.0 };
   /** Asked now and then during the oracle's set-up (between its passes over the voxels, and between rounds of a few
    * million voxels of the nearest-interface map's passes) with the fraction of the set-up done, a rough monotone

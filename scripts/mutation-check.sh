@@ -100,6 +100,8 @@
 #                                 although the user asked for it (--manifold-levels), as before this stop
 #   r3-finer-sample-not-noted     R3's feature vertex beside a zone, at a facet's shortest edge, is exported at the δ of
 #                                 its point instead of the smaller ball radius it honours
+#   iso-values-not-carried        an iso-surface's voxels are regularised but their values are not carried to their new
+#                                 side, so the interpolated surface the mesh follows is the input's as it was
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -272,7 +274,7 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   openings-unchecked flat-cap-needs-three-facets cli-regularization-scale-ignored cli-relabelling-ignored
   cli-thick-parts-ignored cli-manifold-levels-ignored report-pinches-read-relabelled
   regularization-reach-tie-margin-dropped r3-tie-margin-dropped halving-needs-regularization
-  r3-finer-sample-not-noted)
+  r3-finer-sample-not-noted iso-values-not-carried)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -386,8 +388,8 @@ apply_mutation() {
       ;;
     no-regularization)
       mutate "$tree/include/itkImageLabelOracle.hxx" \
-        'if (m_Mapping.regularizationRadius > 0.0 && m_LabelsAreVoxelwise && m_NumberOfObjectVoxels > 0)' \
-        'if (false && m_Mapping.regularizationRadius > 0.0 && m_LabelsAreVoxelwise && m_NumberOfObjectVoxels > 0)'
+        'if (m_Mapping.regularizationRadius > 0.0 && LabelsAreRegularizable() && m_NumberOfObjectVoxels > 0)' \
+        'if (false && m_Mapping.regularizationRadius > 0.0 && LabelsAreRegularizable() && m_NumberOfObjectVoxels > 0)'
       ;;
     direction-dropped)
       mutate "$tree/include/itkImageLabelSelection.h" 'labels->SetDirection(image.GetDirection());' ''
@@ -655,6 +657,12 @@ apply_mutation() {
       {
         repaired = HalveDeltaAround(places);
       }'
+      ;;
+    iso-values-not-carried)
+      mutate "$tree/include/itkImageLabelOracleRegularization.hxx" '  using ValueLimits = NumericTraits<ValueType>;
+' '  using ValueLimits = NumericTraits<ValueType>;
+  return;
+'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2
