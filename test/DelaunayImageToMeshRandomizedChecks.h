@@ -51,6 +51,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -324,7 +325,8 @@ SliverRemovalGrowthIn(const std::string & message)
 }
 
 /** Whether the case runs issue #14's topology defaults: the regularisation at its default scale, the relabelling,
- * the topology rounds, the joining of diagonal voxels, and no opt-in halving of δ, on a label image. */
+ * the topology rounds, the joining of diagonal voxels, and no opt-in halving of δ, on a label image or an
+ * iso-surface (whose voxels' sides are regularised too, and carried into the values it interpolates). */
 inline bool
 HasTheTopologyDefaults(const FilterSettings & settings)
 {
@@ -334,7 +336,7 @@ HasTheTopologyDefaults(const FilterSettings & settings)
          settings.refineThickParts == defaults.refineThickParts &&
          settings.topologyRegularizationRounds == defaults.topologyRegularizationRounds &&
          settings.manifoldRefinementLevels == defaults.manifoldRefinementLevels &&
-         settings.joinDiagonalVoxels == defaults.joinDiagonalVoxels && !settings.isoValue;
+         settings.joinDiagonalVoxels == defaults.joinDiagonalVoxels;
 }
 
 /** Whether every boundary of the mesh must be a closed manifold (issue #14's bar): the topology defaults, ρ's
@@ -726,13 +728,62 @@ JoinedLabelImage(const TImage & image, const FilterSettings & settings, const st
   return joined;
 }
 
-/** The label the filter meshes at a physical point: OracleLabelAt on the image, or on JoinedLabelImage, or on the
- * filter's regularised label image. */
+/** An iso-surface's values as the filter interpolates them once its voxels' sides of the iso-value were regularised
+ * (docs/algorithm.md, "Topology"), written here from that rule, not from the library's code: on the filter's label
+ * image's voxels inside the image, each voxel whose regularised label is on the other side than its value gets its
+ * value mirrored in the iso-value (2 iso - v), or the type's nearest value on its side where that is not. */
+template <typename TImage, typename TFilter>
+typename TImage::Pointer
+CarriedIsoValues(const TImage & image, const TFilter & filter, double iso)
+{
+  using ValueType = typename TImage::PixelType;
+  static_assert(std::is_floating_point_v<ValueType>, "the randomized iso-value images are floating point");
+  const auto * labels = filter.GetObjectLabelImage();
+  auto         region = labels->GetBufferedRegion();
+  region.Crop(image.GetBufferedRegion());
+  auto values = TImage::New();
+  values->CopyInformation(&image);
+  values->SetRegions(region);
+  values->Allocate();
+  for (ImageRegionIteratorWithIndex<TImage> it(values, region); !it.IsAtEnd(); ++it)
+  {
+    const ValueType value = image.GetPixel(it.GetIndex());
+    const bool      object = labels->GetPixel(it.GetIndex()) != dr::BackgroundLabel;
+    if ((static_cast<double>(value) >= iso) == object)
+    {
+      it.Set(value);
+      continue;
+    }
+    auto            mirrored = static_cast<ValueType>(2.0 * iso - static_cast<double>(value));
+    const ValueType toward = object ? std::numeric_limits<ValueType>::max() : std::numeric_limits<ValueType>::lowest();
+    while ((static_cast<double>(mirrored) >= iso) != object)
+    {
+      mirrored = std::nextafter(mirrored, toward);
+    }
+    it.Set(mirrored);
+  }
+  return values;
+}
+
+/** The label the filter meshes at a physical point: OracleLabelAt on the image (with an iso-value: on its values
+ * carried to the regularised voxels' sides, CarriedIsoValues()), or on JoinedLabelImage, or on the filter's
+ * regularised label image. */
 template <typename TImage, typename TFilter>
 std::function<dr::Label(const dr::Vector3 &)>
 MeshedLabelFunction(const TImage & image, const TFilter & filter, const FilterSettings & settings,
                     const std::set<dr::Label> & tissues)
 {
+  const bool regularised = filter.GetRegularizationReport().changedVoxels > 0 ||
+                           filter.GetNumberOfLocallyRegularizedVoxels() > 0 || filter.GetNumberOfJoiningVoxels() > 0;
+  if constexpr (std::is_floating_point_v<typename TImage::PixelType>)
+  {
+    if (settings.isoValue && regularised)
+    {
+      const auto values = CarriedIsoValues(image, filter, *settings.isoValue);
+      const auto interpolator = DefaultInterpolatorFor(*values, settings);
+      return [=](const dr::Vector3 & point) { return OracleLabelAt(*interpolator, settings, tissues, point); };
+    }
+  }
   if (filter.GetRegularizationReport().changedVoxels > 0 || filter.GetNumberOfLocallyRegularizedVoxels() > 0)
   {
     // The regularised labels are the ones the mesh must carry (docs/algorithm.md, "Topology"): the image the
