@@ -18,13 +18,14 @@
 
 // Randomized tests of itk::DelaunayImageToMeshFilter (issue #5): thousands of small label images built in
 // memory from fixed seeds (blobs, noise, one-voxel sheets and lines, single voxels, many labels, objects on
-// the border, thin images), in random physical space (anisotropic spacing, oblique and reflected directions,
-// far origins), meshed with δ from 0.3 to 20 voxels. Every run must end in a mesh that meets every guarantee,
-// or in one of the filter's documented exceptions where the voxels say it applies; never in another exception, a
-// crash or a hang. The rules are read from the voxels, not from the mesher (issue #17): "no tetrahedron" only when
-// no component of the meshed segmentation is 2δ across, every component that thick holds a tetrahedron of its label,
-// the boundary lies within δ of the voxels' surface and back within a bound, "vertex limit" only at a cap the case
-// chose itself; and each family must end in a mesh in a minimum share of its cases.
+// the border, thin images, and gray fields of bumps and noise cut at an iso-value), in random physical space
+// (anisotropic spacing, oblique and reflected directions, far origins), meshed with δ from 0.3 to 20 voxels. Every run
+// must end in a mesh that meets every guarantee, or in one of the filter's documented exceptions where the voxels say
+// it applies; never in another exception, a crash or a hang. The rules are read from the voxels, not from the mesher
+// (issue #17): "no tetrahedron" only when no component of the meshed segmentation is 2δ across, every component that
+// thick holds a tetrahedron of its label, the boundary lies within δ of the voxels' surface and back within a bound,
+// "vertex limit" only at a cap the case chose itself; and each family must end in a mesh in a minimum share of its
+// cases.
 //
 // Reproducing one case: DELAUNAY_RANDOMIZED_SEED=<seed> ./DelaunayImageToMeshRandomizedGTests
 //   --gtest_filter='*<Family>*' runs that seed alone and prints it. DELAUNAY_RANDOMIZED_CASES=<n> changes the
@@ -261,7 +262,8 @@ enum class Family
   ManyLabels,
   BorderTouching,
   ThinImages,
-  Mixed
+  Mixed,
+  IsoSurfaces
 };
 
 const char *
@@ -285,6 +287,8 @@ FamilyName(Family family)
       return "ThinImages";
     case Family::Mixed:
       return "Mixed";
+    case Family::IsoSurfaces:
+      return "IsoSurfaces";
   }
   return "?";
 }
@@ -399,6 +403,54 @@ RandomLabelPool(CaseRandom & random, PixelKind pixelKind, int count)
     pool.back() = 255;
   }
   return pool;
+}
+
+/** The gray levels of the IsoSurfaces family, 0 to IsoSurfaceLevels (the image holds level / IsoSurfaceLevels). */
+constexpr int IsoSurfaceLevels = 1000;
+
+/** A smooth random field with noise, as gray levels: an offset, a few Gaussian bumps and dips (some narrower than a
+ * voxel, some crossing the canvas's border), and voxel noise of up to a quarter of the range; an iso-value in (0.1, 1)
+ * then cuts blobs, necks, holes and speckle out of it. */
+void
+PaintGrayField(Canvas & canvas, CaseRandom & random)
+{
+  struct Bump
+  {
+    std::array<double, 3> center;
+    double                width;
+    double                height;
+  };
+  std::vector<Bump> bumps(static_cast<std::size_t>(random.Integer(2, 8)));
+  for (Bump & bump : bumps)
+  {
+    for (unsigned int axis = 0; axis < 3; ++axis)
+    {
+      bump.center[axis] = random.Uniform(-0.1, 1.1) * canvas.size[axis];
+    }
+    bump.width = random.LogUniform(0.6, 8.0);
+    bump.height = random.Chance(0.25) ? random.Uniform(-0.8, -0.2) : random.Uniform(0.4, 1.6);
+  }
+  const double offset = random.Uniform(0.0, 0.3);
+  const double noise = random.Chance(0.3) ? 0.0 : random.Uniform(0.0, 0.25);
+  for (int k = 0; k < canvas.size[2]; ++k)
+  {
+    for (int j = 0; j < canvas.size[1]; ++j)
+    {
+      for (int i = 0; i < canvas.size[0]; ++i)
+      {
+        double value = offset + random.Uniform(-noise, noise);
+        for (const Bump & bump : bumps)
+        {
+          const double dx = i - bump.center[0];
+          const double dy = j - bump.center[1];
+          const double dz = k - bump.center[2];
+          value += bump.height * std::exp(-(dx * dx + dy * dy + dz * dz) / (2.0 * bump.width * bump.width));
+        }
+        canvas.At({ { i, j, k } }) =
+          static_cast<int>(std::lround(std::clamp(value, 0.0, 1.0) * static_cast<double>(IsoSurfaceLevels)));
+      }
+    }
+  }
 }
 
 void
@@ -529,6 +581,10 @@ PaintContent(RandomCase & randomCase, CaseRandom & random)
       randomCase.content = "mixed: " + std::to_string(blobs) + " ellipsoids, sheet/line/noise";
       break;
     }
+    case Family::IsoSurfaces:
+      PaintGrayField(canvas, random);
+      randomCase.content = "gray field: Gaussian bumps and noise";
+      break;
   }
 }
 
@@ -623,7 +679,7 @@ MakeCase(Family family, uint64_t seed)
   randomCase.family = family;
   const double pixelDraw = random.Uniform(0.0, 1.0);
   randomCase.pixelKind = pixelDraw < 0.5 ? PixelKind::UnsignedChar : PixelKind::Short;
-  if (family == Family::Mixed && pixelDraw > 0.9)
+  if ((family == Family::Mixed && pixelDraw > 0.9) || family == Family::IsoSurfaces)
   {
     randomCase.pixelKind = PixelKind::FloatIsoValue;
   }
@@ -775,7 +831,14 @@ RunCase(const RandomCase & randomCase)
     case PixelKind::FloatIsoValue:
       break;
   }
-  // Gray values: 1 inside every object, 0 outside; the iso-value decides where the surface lies in between.
+  // Gray values: the IsoSurfaces family's levels; elsewhere 1 inside every object, 0 outside. The iso-value decides
+  // where the surface lies in between.
+  if (randomCase.family == Family::IsoSurfaces)
+  {
+    return RunCase<FloatImageType>(randomCase, MakeImage<FloatImageType>(randomCase, [](int level) {
+                                     return static_cast<float>(level) / static_cast<float>(IsoSurfaceLevels);
+                                   }));
+  }
   return RunCase<FloatImageType>(
     randomCase, MakeImage<FloatImageType>(randomCase, [](int label) { return label != 0 ? 1.0f : 0.0f; }));
 }
@@ -1063,7 +1126,8 @@ INSTANTIATE_TEST_SUITE_P(
   testing::Values(FamilyRun{ Family::Blobs, 400, 0.58 }, FamilyRun{ Family::SaltAndPepper, 350, 0.33 },
                   FamilyRun{ Family::SheetsAndLines, 350, 0.24 }, FamilyRun{ Family::SingleVoxels, 400, 0.04 },
                   FamilyRun{ Family::ManyLabels, 300, 0.63 }, FamilyRun{ Family::BorderTouching, 400, 0.50 },
-                  FamilyRun{ Family::ThinImages, 400, 0.26 }, FamilyRun{ Family::Mixed, 400, 0.38 }),
+                  FamilyRun{ Family::ThinImages, 400, 0.26 }, FamilyRun{ Family::Mixed, 400, 0.38 },
+                  FamilyRun{ Family::IsoSurfaces, 300, 0.55 }),
   [](const testing::TestParamInfo<FamilyRun> & info) { return FamilyName(info.param.family); });
 
 // ---- Regressions: cases this suite found, replayed --------------------------------------------------------
