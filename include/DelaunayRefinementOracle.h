@@ -140,8 +140,9 @@ struct UnmeshedPart
 };
 
 /** \class LabelPartCensus
- * \brief An oracle whose labels are voxels, which can say which parts of them a mesh lost (docs/algorithm.md,
- * "Topology"): a part is the face-connected voxels of one label, as LabelAt() answers now (regularised).
+ * \brief An oracle whose labels are voxels' (or follow them, as an iso-surface of linear interpolation does), which can
+ * say which parts of them a mesh lost (docs/algorithm.md, "Topology"): a part is the face-connected voxels of one
+ * label, as LabelAt() answers now (regularised).
  *
  * The refinement asks it between rounds only, with two points of each tetrahedron of the mesh (its circumcentre and
  * its centroid) and the tetrahedron's label. */

@@ -106,7 +106,8 @@ public:
 
   /** Voxels whose label RegularizeAround() changed, over all calls. */
   /** The parts of the labels as regularised (face-connected voxels of one label) that hold none of `points` of
-   * their label; none when the labels are not voxels (an interpolator other than nearest-neighbour). */
+   * their label. For an iso-surface of linear interpolation each part's ball is the one its interpolated values surely
+   * hold, the voxels' ball less a voxel diagonal; none for other interpolators, which define their own parts. */
   std::vector<delaunay_refinement::UnmeshedPart>
   PartsHoldingNone(const delaunay_refinement::LabelledPoints & points, double radiusLimit,
                    double maximumVolume = std::numeric_limits<double>::infinity()) const override;

@@ -30,10 +30,12 @@
 #include "itkImageRegionConstIteratorWithIndex.h"
 #include "itkImageRegionIterator.h"
 #include "itkLinearInterpolateImageFunction.h"
+#include "itkNearestNeighborInterpolateImageFunction.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <set>
 #include <sstream>
@@ -471,6 +473,41 @@ TEST(IsoSurfaceRegularisation, FloatValuesFollowTheRegularisedVoxels)
 TEST(IsoSurfaceRegularisation, ByteValuesAroundAFractionalIsoValueFollowTheRegularisedVoxels)
 {
   ExpectInterpolatedLabelsFollowTheRegularisedVoxels<uint8_t>(127.5, 100.0);
+}
+
+/** An iso-surface's census of parts (docs/algorithm.md, "Topology", step 4) measures the ball the interpolated
+ * values surely hold: its voxels' part's ball less a voxel diagonal. Against the census of the same voxels as labels
+ * (nearest neighbour), asked for a ball a diagonal larger: the same parts, each with its radius a diagonal smaller. */
+TEST(IsoSurfaceRegularisation, TheCensusMeasuresTheVoxelsBallLessADiagonal)
+{
+  using GrayImageType = itk::Image<float, 3>;
+  const HostileImage hostile = MakeHostileImage(HostileShape::OneVoxelBridge);
+  const auto         gray = GrayImageOf<float>(hostile, 0.0, 3.0);
+  auto               linear = itk::LinearInterpolateImageFunction<GrayImageType, double>::New();
+  linear->SetInputImage(gray);
+  itk::ImageLabelMapping isoMapping;
+  isoMapping.useIsoValue = true;
+  const itk::ImageLabelOracle<GrayImageType> iso(gray, linear, isoMapping);
+  auto nearest = itk::NearestNeighborInterpolateImageFunction<ImageType, double>::New();
+  nearest->SetInputImage(hostile.image);
+  const itk::ImageLabelOracle<ImageType> voxels(hostile.image, nearest, itk::ImageLabelMapping{});
+
+  const auto & spacing = hostile.image->GetSpacing();
+  const double diagonal = std::sqrt(spacing[0] * spacing[0] + spacing[1] * spacing[1] + spacing[2] * spacing[2]);
+  const double limit = 3.0;
+  const dr::LabelledPoints none = [](const std::function<void(const dr::LabelledPoint &)> &) {};
+  const auto               isoParts = iso.PartsHoldingNone(none, limit);
+  const auto               voxelParts = voxels.PartsHoldingNone(none, limit + diagonal);
+  ASSERT_EQ(isoParts.size(), voxelParts.size());
+  ASSERT_FALSE(isoParts.empty());
+  for (std::size_t part = 0; part < isoParts.size(); ++part)
+  {
+    EXPECT_EQ(isoParts[part].center, voxelParts[part].center);
+    EXPECT_DOUBLE_EQ(isoParts[part].radius, std::max(voxelParts[part].radius - diagonal, 0.0));
+    EXPECT_DOUBLE_EQ(isoParts[part].volume, voxelParts[part].volume);
+  }
+  // The bridge's blocks hold a ball of 3 mm around a voxel centre: more than a diagonal (2.2 mm) is left.
+  EXPECT_GT(isoParts.front().radius, 0.0);
 }
 
 /** The hostile shapes as iso-surfaces (GrayImageOf), meshed with the filter's defaults: every boundary a closed
