@@ -49,7 +49,9 @@ namespace itk
  *
  * With a nearest-neighbour interpolator the labels are those of the voxels: the oracle then reads them from its
  * own label image, and the surface between two voxels of different labels is the face they share, so that
- * surface points need no bisection.
+ * surface points need no bisection. With an iso-value and linear interpolation a voxel's label is the side of the
+ * iso-value its value is on; the regularisation changes those labels as a label image's, and the oracle then
+ * interpolates a copy of the values in which each changed voxel's is on its new side (CarryLabelsIntoValues()).
  *
  * Not an itk::Object: it is the adaptor between an image and the ITK-free refinement core.
  *
