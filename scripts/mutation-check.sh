@@ -254,6 +254,9 @@
 # and KmeansTissues.TheRegularisationFollowsDeltaNotItsLastBits.
 # R3's tie margin, run the same day with DELAUNAY_MUTATION_CTEST_ARGS="-R LastBits|BrainMask": r3-tie-margin-dropped
 # caught by BrainMask.TheDefaultsFollowDeltaNotItsLastBits (2.5 mm) and the brain mask's fingerprint.
+# iso-values-not-carried, run on 2026-11-30 at cb6763c with DELAUNAY_MUTATION_CTEST_ARGS="-R
+# IsoSurface|HostileIso|TopologyOptions": caught by the two voxel-centre tests of IsoSurfaceRegularisation,
+# HostileIsoSurfaces OneVoxelSlit at delta = the spacing, and the randomized IsoSurfaces family.
 set -euo pipefail
 
 repository=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
