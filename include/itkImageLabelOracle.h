@@ -28,6 +28,7 @@
 #include "itkInterpolateImageFunction.h"
 
 #include <array>
+#include <cmath>
 #include <functional>
 #include <map>
 #include <memory>
@@ -200,6 +201,13 @@ private:
   {
     return m_LabelsAreVoxelwise || m_LabelsCarryIntoValues;
   }
+  /** The length of a voxel's diagonal: how far the values a point interpolates, or a changed voxel's cube, reach. */
+  double
+  VoxelDiagonal() const
+  {
+    const auto & spacing = m_LabelImage->GetSpacing();
+    return std::sqrt(spacing[0] * spacing[0] + spacing[1] * spacing[1] + spacing[2] * spacing[2]);
+  }
   /** With m_LabelsCarryIntoValues: gives each voxel of the label image at `offsets` (every voxel when null) that
    * lies in the input a value on its label's side of the iso-value: the input's own where that is on the side, else
    * its mirror image in the iso-value (2 iso - value, moved to the side where the type's rounding or range would
@@ -336,9 +344,8 @@ private:
    * is the voxel's, its side is the voxel's label, and a voxel whose label the regularisation changes gets a value on
    * its new side (CarryLabelsIntoValues()), so that the interpolated surface follows the regularised voxels. */
   bool m_LabelsCarryIntoValues;
-  /** The values LabelAt() interpolates: the input's, or once a label changed (iso-value mode) m_CarriedValues. */
-  const InputImageType * m_Values;
-  /** The input's values on the label image's voxels inside the input, with the changed voxels' carried. */
+  /** The input's values on the label image's voxels inside the input, with the changed voxels' carried; once it
+   * exists, LabelAt() interpolates it instead of the input (iso-value mode). */
   typename InputImageType::Pointer m_CarriedValues;
   /** True in the constructor only (SetUpCheckpoint()). */
   bool m_SettingUp{ true };

@@ -44,7 +44,6 @@ ImageLabelOracle<TInputImage>::ImageLabelOracle(const InputImageType * image, co
   , m_LabelsCarryIntoValues(
       m_Mapping.useIsoValue &&
       dynamic_cast<const LinearInterpolateImageFunction<InputImageType, double> *>(interpolator) != nullptr)
-  , m_Values(image)
 {
   const auto & spacing = image->GetSpacing();
   m_SurfaceTolerance = 1e-4 * *std::min_element(spacing.Begin(), spacing.End());
@@ -643,12 +642,13 @@ ImageLabelOracle<TInputImage>::LabelAt(const Vector3 & point) const -> LabelType
   // index is 0 (a one-slice image), 0.49999999999999994 rounds to 1 and an interpolator that reads the nearest
   // voxel reads past the buffer. Bisection towards the border of the image converges on exactly such points,
   // so the nearest voxel must be in the buffer too.
+  const InputImageType &     values = m_CarriedValues ? *m_CarriedValues : *m_Image;
   const PointType            physicalPoint(point.data());
   ContinuousIndex<double, 3> continuousIndex;
-  m_Values->TransformPhysicalPointToContinuousIndex(physicalPoint, continuousIndex);
+  values.TransformPhysicalPointToContinuousIndex(physicalPoint, continuousIndex);
   IndexType nearestIndex;
   nearestIndex.CopyWithRound(continuousIndex);
-  if (!m_Interpolator->IsInsideBuffer(continuousIndex) || !m_Values->GetBufferedRegion().IsInside(nearestIndex))
+  if (!m_Interpolator->IsInsideBuffer(continuousIndex) || !values.GetBufferedRegion().IsInside(nearestIndex))
   {
     return delaunay_refinement::BackgroundLabel;
   }

@@ -72,7 +72,6 @@ ImageLabelOracle<TInputImage>::CarryLabelsIntoValues(const std::vector<SizeValue
     auto interpolator = LinearInterpolateImageFunction<InputImageType, double>::New();
     interpolator->SetInputImage(m_CarriedValues);
     m_Interpolator = interpolator;
-    m_Values = m_CarriedValues;
   }
   const double iso = m_Mapping.isoValue;
   // The type's values nearest to the iso-value on each side: for integers the smallest at or above it and the one
@@ -373,8 +372,7 @@ ImageLabelOracle<TInputImage>::RegularizeAround(const std::vector<delaunay_refin
   // A changed voxel's cube reaches half a diagonal past its centre: the balls grow by a voxel's diagonal to hold
   // every voxel they changed, and every voxel the pinch removal changed (near the balls, or a chain of changes
   // away from them) gets a ball of its own, so that every cell whose label may have changed is looked at again.
-  const auto & spacing = m_LabelImage->GetSpacing();
-  const double voxelDiagonal = std::sqrt(spacing[0] * spacing[0] + spacing[1] * spacing[1] + spacing[2] * spacing[2]);
+  const double voxelDiagonal = VoxelDiagonal();
   for (delaunay_refinement::Ball & ball : balls)
   {
     ball.radius += voxelDiagonal;
@@ -407,11 +405,7 @@ ImageLabelOracle<TInputImage>::PartsHoldingNone(const delaunay_refinement::Label
   // tetrahedron after refining 687 of them). The values at a point interpolate the eight voxel centres around it,
   // all within a voxel diagonal of it: so the interpolated part surely holds its voxels' ball less a diagonal, and
   // that is the ball the census measures.
-  const auto &             voxelSpacing = m_LabelImage->GetSpacing();
-  const double             beyondVoxels = m_LabelsAreVoxelwise
-                                            ? 0.0
-                                            : std::sqrt(voxelSpacing[0] * voxelSpacing[0] + voxelSpacing[1] * voxelSpacing[1] +
-                                            voxelSpacing[2] * voxelSpacing[2]);
+  const double             beyondVoxels = m_LabelsAreVoxelwise ? 0.0 : VoxelDiagonal();
   const LabelType * const  labels = m_LabelImage->GetBufferPointer();
   std::vector<std::size_t> marked;
   points([&](const delaunay_refinement::LabelledPoint & point) {
