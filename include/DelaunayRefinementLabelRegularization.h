@@ -78,9 +78,11 @@ struct LabelRegularizationReport
  * work done (0 to 1, never decreasing); when it says no, RefinementAborted is thrown and the labels are as they were.
  * The labels' openings, the component counts and the passes of the distance transform run on up to `numberOfThreads`
  * threads; the result does not depend on their number. A grid with more than 4294967295 runs of equal labels along x,
- * or rows that long, throws std::length_error (the counts are kept in 32 bits). */
-DelaunayImageToMesh_EXPORT LabelRegularizationReport
-RegularizeLabels(Label * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing, double radius,
+ * or rows that long, throws std::length_error (the counts are kept in 32 bits). The labels may be stored in any
+ * IsVoxelLabelType; the result is the same. */
+template <typename TVoxelLabel>
+LabelRegularizationReport
+RegularizeLabels(TVoxelLabel * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing, double radius,
                  const std::function<bool(double)> & keepGoing = {}, unsigned int numberOfThreads = 1);
 
 /** A face-connected part of one label's voxels (FindUnmarkedParts). */
@@ -100,7 +102,8 @@ struct LabelPart
 class DelaunayImageToMesh_EXPORT LabelParts
 {
 public:
-  LabelParts(const Label * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing,
+  template <typename TVoxelLabel>
+  LabelParts(const TVoxelLabel * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing,
              unsigned int numberOfThreads = 1);
   ~LabelParts();
   LabelParts(const LabelParts &) = delete;
@@ -123,9 +126,33 @@ private:
  * largest ball up to `radiusLimit`. The mesher asks this of the regularised labels with the voxels that hold a
  * tetrahedron of their label, so that a part the mesh lost is found, meshed or reported. The components are found on
  * up to `numberOfThreads` threads; the result does not depend on their number. */
-DelaunayImageToMesh_EXPORT std::vector<LabelPart>
-FindUnmarkedParts(const Label * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing,
+template <typename TVoxelLabel>
+std::vector<LabelPart>
+FindUnmarkedParts(const TVoxelLabel * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing,
                   const std::vector<std::size_t> & marked, double radiusLimit, unsigned int numberOfThreads = 1);
+
+// Compiled in the library for each IsVoxelLabelType.
+#define DelaunayRefinement_DeclareLabelRegularization(TVoxelLabel)                                                     \
+  extern template DelaunayImageToMesh_EXPORT LabelRegularizationReport RegularizeLabels<TVoxelLabel>(                  \
+    TVoxelLabel *,                                                                                                     \
+    const std::array<std::size_t, 3> &,                                                                                \
+    const Vector3 &,                                                                                                   \
+    double,                                                                                                            \
+    const std::function<bool(double)> &,                                                                               \
+    unsigned int);                                                                                                     \
+  extern template DelaunayImageToMesh_EXPORT LabelParts::LabelParts(                                                   \
+    const TVoxelLabel *, const std::array<std::size_t, 3> &, const Vector3 &, unsigned int);                           \
+  extern template DelaunayImageToMesh_EXPORT std::vector<LabelPart> FindUnmarkedParts<TVoxelLabel>(                    \
+    const TVoxelLabel *,                                                                                               \
+    const std::array<std::size_t, 3> &,                                                                                \
+    const Vector3 &,                                                                                                   \
+    const std::vector<std::size_t> &,                                                                                  \
+    double,                                                                                                            \
+    unsigned int)
+DelaunayRefinement_DeclareLabelRegularization(Label);
+DelaunayRefinement_DeclareLabelRegularization(uint16_t);
+DelaunayRefinement_DeclareLabelRegularization(uint8_t);
+#undef DelaunayRefinement_DeclareLabelRegularization
 
 } // namespace delaunay_refinement
 

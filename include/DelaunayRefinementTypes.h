@@ -24,6 +24,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 /** \namespace delaunay_refinement
@@ -41,6 +42,14 @@ using Vector3 = std::array<double, 3>;
 using Label = int32_t;
 
 constexpr Label BackgroundLabel = 0;
+
+/** The types a grid of voxel labels may be stored in (the label image, the regularisation, the pinch removal, the
+ * census of parts): Label, or uint16_t or uint8_t when every label of the grid fits, which is most segmentations.
+ * Those are read and written as Label; the narrower types take a half or a quarter of the memory, and a voxel pass
+ * touches as much less. */
+template <typename T>
+inline constexpr bool IsVoxelLabelType =
+  std::is_same_v<T, Label> || std::is_same_v<T, uint16_t> || std::is_same_v<T, uint8_t>;
 
 inline Vector3
 operator+(const Vector3 & a, const Vector3 & b)

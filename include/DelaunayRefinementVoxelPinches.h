@@ -50,17 +50,31 @@ namespace delaunay_refinement
  * image oracle's label image has one). When no change unpinches the label in the block at once, the block is looked
  * at again after the change. Returns the number of voxels whose label differs at the end; `changes`, when given,
  * receives them in increasing order of offset, each with the label it had before. The search for the pinches
- * runs on up to `numberOfThreads` threads; the result does not depend on their number. */
-DelaunayImageToMesh_EXPORT std::size_t
-                           RemoveVoxelPinches(Label * labels, const std::array<std::size_t, 3> & size,
-                                              std::vector<VoxelChange> * changes = nullptr, unsigned int numberOfThreads = 1);
+ * runs on up to `numberOfThreads` threads; the result does not depend on their number. The labels may be stored in any
+ * IsVoxelLabelType; the result is the same. */
+template <typename TVoxelLabel>
+std::size_t
+RemoveVoxelPinches(TVoxelLabel * labels, const std::array<std::size_t, 3> & size,
+                   std::vector<VoxelChange> * changes = nullptr, unsigned int numberOfThreads = 1);
 
 /** The same after the voxels at `changedVoxels` (offsets) changed in labels that had no pinch the removal could
  * mend: only the blocks holding them, and those its changes reach, are looked at, so that the cost follows the
  * change, not the grid. The ranks come from the whole grid, as above. */
-DelaunayImageToMesh_EXPORT std::size_t
-                           RemoveVoxelPinchesAround(Label * labels, const std::array<std::size_t, 3> & size,
-                                                    const std::vector<std::size_t> & changedVoxels, std::vector<VoxelChange> * changes = nullptr);
+template <typename TVoxelLabel>
+std::size_t
+RemoveVoxelPinchesAround(TVoxelLabel * labels, const std::array<std::size_t, 3> & size,
+                         const std::vector<std::size_t> & changedVoxels, std::vector<VoxelChange> * changes = nullptr);
+
+// Compiled in the library for each IsVoxelLabelType.
+#define DelaunayRefinement_DeclareVoxelPinches(TVoxelLabel)                                                            \
+  extern template DelaunayImageToMesh_EXPORT std::size_t RemoveVoxelPinches<TVoxelLabel>(                              \
+    TVoxelLabel *, const std::array<std::size_t, 3> &, std::vector<VoxelChange> *, unsigned int);                      \
+  extern template DelaunayImageToMesh_EXPORT std::size_t RemoveVoxelPinchesAround<TVoxelLabel>(                        \
+    TVoxelLabel *, const std::array<std::size_t, 3> &, const std::vector<std::size_t> &, std::vector<VoxelChange> *)
+DelaunayRefinement_DeclareVoxelPinches(Label);
+DelaunayRefinement_DeclareVoxelPinches(uint16_t);
+DelaunayRefinement_DeclareVoxelPinches(uint8_t);
+#undef DelaunayRefinement_DeclareVoxelPinches
 
 } // namespace delaunay_refinement
 

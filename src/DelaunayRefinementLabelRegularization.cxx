@@ -86,8 +86,9 @@ private:
 };
 /** Whether the `count` labels from `labels` are all equal, compared without a branch so that the compiler vectorises
  * it: label images are mostly long runs of one label. */
+template <typename TVoxelLabel>
 inline bool
-AllEqual(const Label * labels, std::size_t count)
+AllEqual(const TVoxelLabel * labels, std::size_t count)
 {
   uint32_t differs = 0;
   for (std::size_t voxel = 1; voxel < count; ++voxel)
@@ -99,8 +100,9 @@ AllEqual(const Label * labels, std::size_t count)
 
 /** The end of the run of equal labels that begins at `begin` in a row of `length` labels: sixteen labels at a time
  * while they all equal the run's (AllEqual). */
+template <typename TVoxelLabel>
 inline std::size_t
-RunEnd(const Label * row, std::size_t begin, std::size_t length)
+RunEnd(const TVoxelLabel * row, std::size_t begin, std::size_t length)
 {
   constexpr std::size_t chunk = 16;
   std::size_t           end = begin + 1;
@@ -747,7 +749,8 @@ public:
   /** A slab costs a thread (tens of microseconds to start): a slab of fewer voxels would save less than that. */
   static constexpr std::size_t MinimumVoxelsPerSlab = std::size_t{ 1 } << 16;
 
-  LabelComponents(const Label * labels, const std::array<std::size_t, 3> & size, unsigned int numberOfThreads)
+  template <typename TVoxelLabel>
+  LabelComponents(const TVoxelLabel * labels, const std::array<std::size_t, 3> & size, unsigned int numberOfThreads)
     : m_Size(size)
   {
     const std::size_t lines = size[1] * size[2];
@@ -948,8 +951,9 @@ private:
   /** The number of runs of equal labels along x, lines `lineLength` long: the run list is then written once, into
    * memory allocated once, instead of being copied each time it grows (measured on the k-means tissues at δ = 18 mm,
    * a million voxels: the two passes of the regularisation were a quarter of its time, most of it in that growth). */
+  template <typename TVoxelLabel>
   static std::size_t
-  CountRuns(const Label * labels, std::size_t numberOfVoxels, std::size_t lineLength)
+  CountRuns(const TVoxelLabel * labels, std::size_t numberOfVoxels, std::size_t lineLength)
   {
     std::size_t runs = 0;
     for (std::size_t lineStart = 0; lineStart < numberOfVoxels; lineStart += lineLength)
@@ -1009,11 +1013,12 @@ private:
   std::map<Label, Statistics> m_Statistics;
 };
 
+template <typename TVoxelLabel>
 class LabelRegularizer
 {
 public:
-  LabelRegularizer(Label * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing, double radius,
-                   const std::function<bool(double)> & keepGoing, unsigned int numberOfThreads)
+  LabelRegularizer(TVoxelLabel * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing,
+                   double radius, const std::function<bool(double)> & keepGoing, unsigned int numberOfThreads)
     : m_Labels(labels)
     , m_KeepGoing(keepGoing)
     , m_NumberOfThreads(std::max(1U, numberOfThreads))
@@ -1073,7 +1078,7 @@ public:
     ReachStage(ProgressAfter::nearestSurvivors);
     for (const auto & [offset, label] : changes)
     {
-      m_Labels[offset] = label;
+      m_Labels[offset] = static_cast<TVoxelLabel>(label);
     }
     const LabelComponents after(m_Labels, m_Size, m_NumberOfThreads);
     for (auto & change : report.labels)
@@ -1242,11 +1247,11 @@ private:
         }
         // A word at a time, filled in a register and stored once, rather than a read and a write of it per voxel;
         // a word's span of one label (most of them) is decided at once.
-        const Label * row = m_Labels + GridOffset(box.lower[0] + firstInGrid, j, k);
+        const TVoxelLabel * row = m_Labels + GridOffset(box.lower[0] + firstInGrid, j, k);
         for (long x = firstInGrid; x <= lastInGrid;)
         {
-          const long    endOfWord = std::min(lastInGrid + 1, (x | 63) + 1);
-          const Label * span = row + (x - firstInGrid);
+          const long          endOfWord = std::min(lastInGrid + 1, (x | 63) + 1);
+          const TVoxelLabel * span = row + (x - firstInGrid);
           if (AllEqual(span, static_cast<std::size_t>(endOfWord - x)))
           {
             if (span[0] == label)
@@ -1755,7 +1760,7 @@ private:
    * against 75 ns), so searches that end in the transform cost it a fifth more at most. */
   static constexpr std::size_t SearchTriesPerBoxVoxel = 4;
 
-  Label *                             m_Labels;
+  TVoxelLabel *                       m_Labels;
   const std::function<bool(double)> & m_KeepGoing;
   /** The thread that called Run(), the only one that reports progress. */
   std::thread::id m_CallingThread;
@@ -1780,7 +1785,8 @@ private:
 class LabelParts::Finder
 {
 public:
-  Finder(const Label * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing,
+  template <typename TVoxelLabel>
+  Finder(const TVoxelLabel * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing,
          unsigned int numberOfThreads)
     : m_Components(labels, size, numberOfThreads)
     , m_Size(size)
@@ -2123,7 +2129,8 @@ private:
   double                  m_OffsetsRadius{ 0.0 };
 };
 
-LabelParts::LabelParts(const Label * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing,
+template <typename TVoxelLabel>
+LabelParts::LabelParts(const TVoxelLabel * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing,
                        unsigned int numberOfThreads)
   : m_Finder(size[0] * size[1] * size[2] == 0
                ? nullptr
@@ -2138,18 +2145,43 @@ LabelParts::FindUnmarked(const std::vector<std::size_t> & marked, double radiusL
   return m_Finder ? m_Finder->Find(marked, radiusLimit, maximumVoxels) : std::vector<LabelPart>();
 }
 
+template <typename TVoxelLabel>
 std::vector<LabelPart>
-FindUnmarkedParts(const Label * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing,
+FindUnmarkedParts(const TVoxelLabel * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing,
                   const std::vector<std::size_t> & marked, double radiusLimit, unsigned int numberOfThreads)
 {
   return LabelParts(labels, size, spacing, numberOfThreads).FindUnmarked(marked, radiusLimit);
 }
 
+template <typename TVoxelLabel>
 LabelRegularizationReport
-RegularizeLabels(Label * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing, double radius,
+RegularizeLabels(TVoxelLabel * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing, double radius,
                  const std::function<bool(double)> & keepGoing, unsigned int numberOfThreads)
 {
-  return LabelRegularizer(labels, size, spacing, radius, keepGoing, numberOfThreads).Run();
+  static_assert(IsVoxelLabelType<TVoxelLabel>, "labels are stored as Label, uint16_t or uint8_t");
+  return LabelRegularizer<TVoxelLabel>(labels, size, spacing, radius, keepGoing, numberOfThreads).Run();
 }
+
+#define DelaunayRefinement_DefineLabelRegularization(TVoxelLabel)                                                      \
+  template DelaunayImageToMesh_EXPORT LabelRegularizationReport RegularizeLabels<TVoxelLabel>(                         \
+    TVoxelLabel *,                                                                                                     \
+    const std::array<std::size_t, 3> &,                                                                                \
+    const Vector3 &,                                                                                                   \
+    double,                                                                                                            \
+    const std::function<bool(double)> &,                                                                               \
+    unsigned int);                                                                                                     \
+  template DelaunayImageToMesh_EXPORT LabelParts::LabelParts(                                                          \
+    const TVoxelLabel *, const std::array<std::size_t, 3> &, const Vector3 &, unsigned int);                           \
+  template DelaunayImageToMesh_EXPORT std::vector<LabelPart> FindUnmarkedParts<TVoxelLabel>(                           \
+    const TVoxelLabel *,                                                                                               \
+    const std::array<std::size_t, 3> &,                                                                                \
+    const Vector3 &,                                                                                                   \
+    const std::vector<std::size_t> &,                                                                                  \
+    double,                                                                                                            \
+    unsigned int)
+DelaunayRefinement_DefineLabelRegularization(Label);
+DelaunayRefinement_DefineLabelRegularization(uint16_t);
+DelaunayRefinement_DefineLabelRegularization(uint8_t);
+#undef DelaunayRefinement_DefineLabelRegularization
 
 } // namespace delaunay_refinement

@@ -85,10 +85,11 @@ private:
   std::array<bool, 256> m_Critical{};
 };
 
+template <typename TVoxelLabel>
 class VoxelPinchRemover
 {
 public:
-  VoxelPinchRemover(Label * labels, const std::array<std::size_t, 3> & size, unsigned int numberOfThreads)
+  VoxelPinchRemover(TVoxelLabel * labels, const std::array<std::size_t, 3> & size, unsigned int numberOfThreads)
     : m_Labels(labels)
     , m_Size(size)
     , m_Strides{ { 1, size[0], size[0] * size[1] } }
@@ -270,17 +271,17 @@ private:
   std::size_t
   FirstNonUniformBlock(std::size_t rowStart, std::size_t first) const
   {
-    const std::size_t                  blocks = m_Size[0] - 1;
-    const Label *                      row = m_Labels + rowStart;
-    const std::array<const Label *, 4> rows{
+    const std::size_t                        blocks = m_Size[0] - 1;
+    const TVoxelLabel *                      row = m_Labels + rowStart;
+    const std::array<const TVoxelLabel *, 4> rows{
       row, row + m_Strides[1], row + m_Strides[2], row + m_Strides[1] + m_Strides[2]
     };
     std::size_t i = first;
     for (; i + BlocksAtOnce <= blocks; i += BlocksAtOnce)
     {
-      const Label label = rows[0][i];
-      uint32_t    differs = 0;
-      for (const Label * line : rows)
+      const TVoxelLabel label = rows[0][i];
+      uint32_t          differs = 0;
+      for (const TVoxelLabel * line : rows)
       {
         for (std::size_t voxel = i; voxel <= i + BlocksAtOnce; ++voxel)
         {
@@ -540,7 +541,7 @@ private:
       m_HasChanged[change.offset] = true;
       m_Originals.push_back({ change.offset, m_Labels[change.offset] });
     }
-    m_Labels[change.offset] = change.label;
+    m_Labels[change.offset] = static_cast<TVoxelLabel>(change.label);
     ForEachCubeHolding(change.offset, [this](std::size_t cube, int) {
       m_Pending.push_back(cube);
       if (cube > m_ScanPosition)
@@ -563,7 +564,7 @@ private:
     return count;
   }
 
-  Label *                                m_Labels;
+  TVoxelLabel *                          m_Labels;
   const std::array<std::size_t, 3>       m_Size;
   const std::array<std::size_t, 3>       m_Strides;
   const unsigned int                     m_NumberOfThreads;
@@ -586,22 +587,35 @@ private:
 
 } // namespace
 
+template <typename TVoxelLabel>
 std::size_t
-RemoveVoxelPinches(Label * labels, const std::array<std::size_t, 3> & size, std::vector<VoxelChange> * changes,
+RemoveVoxelPinches(TVoxelLabel * labels, const std::array<std::size_t, 3> & size, std::vector<VoxelChange> * changes,
                    unsigned int numberOfThreads)
 {
-  VoxelPinchRemover remover(labels, size, numberOfThreads);
+  static_assert(IsVoxelLabelType<TVoxelLabel>, "labels are stored as Label, uint16_t or uint8_t");
+  VoxelPinchRemover<TVoxelLabel> remover(labels, size, numberOfThreads);
   remover.Run();
   return remover.ReportChanges(changes);
 }
 
+template <typename TVoxelLabel>
 std::size_t
-RemoveVoxelPinchesAround(Label * labels, const std::array<std::size_t, 3> & size,
+RemoveVoxelPinchesAround(TVoxelLabel * labels, const std::array<std::size_t, 3> & size,
                          const std::vector<std::size_t> & changedVoxels, std::vector<VoxelChange> * changes)
 {
-  VoxelPinchRemover remover(labels, size, 1);
+  VoxelPinchRemover<TVoxelLabel> remover(labels, size, 1);
   remover.RunAround(changedVoxels);
   return remover.ReportChanges(changes);
 }
+
+#define DelaunayRefinement_DefineVoxelPinches(TVoxelLabel)                                                             \
+  template DelaunayImageToMesh_EXPORT std::size_t RemoveVoxelPinches<TVoxelLabel>(                                     \
+    TVoxelLabel *, const std::array<std::size_t, 3> &, std::vector<VoxelChange> *, unsigned int);                      \
+  template DelaunayImageToMesh_EXPORT std::size_t RemoveVoxelPinchesAround<TVoxelLabel>(                               \
+    TVoxelLabel *, const std::array<std::size_t, 3> &, const std::vector<std::size_t> &, std::vector<VoxelChange> *)
+DelaunayRefinement_DefineVoxelPinches(Label);
+DelaunayRefinement_DefineVoxelPinches(uint16_t);
+DelaunayRefinement_DefineVoxelPinches(uint8_t);
+#undef DelaunayRefinement_DefineVoxelPinches
 
 } // namespace delaunay_refinement

@@ -39,6 +39,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace delaunay_refinement
@@ -878,6 +879,79 @@ TEST(UnmarkedParts, AMarkCountsForItsOwnPartOnly)
   EXPECT_EQ(small[0].label, 2);
   EXPECT_EQ(small[0].deepestVoxel, parts[1].deepestVoxel);
   EXPECT_EQ(labelParts.FindUnmarked({ offset(2, 2, 2) }, 10.0).size(), 2U) << "asked again, all of them";
+}
+
+/** The labels stored in a narrower IsVoxelLabelType (every label fits). */
+template <typename TVoxelLabel>
+std::vector<TVoxelLabel>
+StoredAs(const std::vector<Label> & labels)
+{
+  std::vector<TVoxelLabel> stored(labels.size());
+  std::transform(
+    labels.begin(), labels.end(), stored.begin(), [](Label label) { return static_cast<TVoxelLabel>(label); });
+  return stored;
+}
+
+/** The label image is stored in one or two bytes a voxel where its labels fit (ImageLabelSelection): the
+ * regularisation, its report and the parts it leaves are the same as with four. The labels are 0, 1, 2 and 200 (a
+ * byte holds up to 255), on blobs, sheets and speckle. */
+TEST(LabelRegularization, EveryStorageOfTheLabelsGivesTheSameResult)
+{
+  std::mt19937 random(20261201);
+  Grid         grid = RandomGrid(random, { { 40, 30, 25 } }, { { 0.9, 1.0, 1.3 } });
+  for (Label & label : grid.labels)
+  {
+    label = random() % 9 == 0 ? static_cast<Label>(random() % 4) : label;
+    label = label == 3 ? 200 : label;
+  }
+  const auto regularise = [&](auto labels) {
+    const LabelRegularizationReport report = RegularizeLabels(labels.data(), grid.size, grid.spacing, 1.4, {}, 2);
+    std::vector<Label>              asLabels(labels.begin(), labels.end());
+    return std::make_pair(asLabels, report);
+  };
+  const auto [expected, expectedReport] = regularise(grid.labels);
+  ASSERT_GT(expectedReport.changedVoxels, grid.labels.size() / 20) << "the grid has too little to regularise";
+  for (const auto & [name, result] : { std::make_pair("uint8_t", regularise(StoredAs<uint8_t>(grid.labels))),
+                                       std::make_pair("uint16_t", regularise(StoredAs<uint16_t>(grid.labels))) })
+  {
+    SCOPED_TRACE(name);
+    EXPECT_EQ(result.first, expected);
+    EXPECT_EQ(result.second.changedVoxels, expectedReport.changedVoxels);
+    ASSERT_EQ(result.second.labels.size(), expectedReport.labels.size());
+    for (std::size_t entry = 0; entry < expectedReport.labels.size(); ++entry)
+    {
+      const LabelRegularizationChange & a = result.second.labels[entry];
+      const LabelRegularizationChange & b = expectedReport.labels[entry];
+      EXPECT_EQ(std::make_tuple(a.label,
+                                a.voxelsBefore,
+                                a.voxelsAfter,
+                                a.voxelsRemoved,
+                                a.voxelsAdded,
+                                a.componentsBefore,
+                                a.componentsAfter,
+                                a.componentsRemoved),
+                std::make_tuple(b.label,
+                                b.voxelsBefore,
+                                b.voxelsAfter,
+                                b.voxelsRemoved,
+                                b.voxelsAdded,
+                                b.componentsBefore,
+                                b.componentsAfter,
+                                b.componentsRemoved))
+        << "label " << b.label;
+    }
+  }
+  std::vector<std::size_t> marked;
+  for (std::size_t voxel = 0; voxel < grid.labels.size(); voxel += 7)
+  {
+    marked.push_back(voxel);
+  }
+  const std::vector<LabelPart> parts = FindUnmarkedParts(grid.labels.data(), grid.size, grid.spacing, marked, 3.0);
+  ASSERT_GT(parts.size(), 3U) << "the grid has too few unmarked parts to test";
+  ExpectTheSameParts(FindUnmarkedParts(StoredAs<uint8_t>(grid.labels).data(), grid.size, grid.spacing, marked, 3.0),
+                     parts);
+  ExpectTheSameParts(FindUnmarkedParts(StoredAs<uint16_t>(grid.labels).data(), grid.size, grid.spacing, marked, 3.0),
+                     parts);
 }
 
 } // namespace

@@ -401,6 +401,39 @@ TEST(RemoveVoxelPinches, ThreadsDoNotChangeTheResult)
   EXPECT_GT(totalChanged, 500u);
 }
 
+/** The label image is stored in one or two bytes a voxel where its labels fit (ImageLabelSelection): the pinch
+ * removal changes the same voxels, and reports the same changes, as with four. Tissue 4 is label 255, the largest a
+ * byte holds. */
+TEST(RemoveVoxelPinches, EveryStorageOfTheLabelsGivesTheSameResult)
+{
+  XorShift    next(20261201);
+  std::size_t totalChanged = 0;
+  for (int gridNumber = 0; gridNumber < 24; ++gridNumber)
+  {
+    Grid grid = EmptyGrid({ { 3 + next() % 30, 3 + next() % 10, 3 + next() % 20 } });
+    FillWithSpeckle(grid, 1 + next() % 8, 1 + next() % 4, next);
+    std::replace(grid.labels.begin(), grid.labels.end(), Label{ 4 }, Label{ 255 });
+    Grid                     wide = grid;
+    std::vector<VoxelChange> wideChanges;
+    totalChanged += RemoveVoxelPinches(wide.labels.data(), wide.size, &wideChanges, 2);
+    const auto expectTheSame = [&](auto narrow, const char * name) {
+      std::vector<VoxelChange> changes;
+      EXPECT_EQ(RemoveVoxelPinches(narrow.data(), grid.size, &changes, 2), wideChanges.size())
+        << "grid " << gridNumber << ", " << name;
+      EXPECT_EQ(std::vector<Label>(narrow.begin(), narrow.end()), wide.labels) << "grid " << gridNumber << ", " << name;
+      ASSERT_EQ(changes.size(), wideChanges.size()) << "grid " << gridNumber << ", " << name;
+      for (std::size_t change = 0; change < changes.size(); ++change)
+      {
+        EXPECT_EQ(changes[change].offset, wideChanges[change].offset) << "grid " << gridNumber << ", " << name;
+        EXPECT_EQ(changes[change].before, wideChanges[change].before) << "grid " << gridNumber << ", " << name;
+      }
+    };
+    expectTheSame(std::vector<uint8_t>(grid.labels.begin(), grid.labels.end()), "uint8_t");
+    expectTheSame(std::vector<uint16_t>(grid.labels.begin(), grid.labels.end()), "uint16_t");
+  }
+  EXPECT_GT(totalChanged, 200u);
+}
+
 /** After labels without pinches change in a few boxes, RemoveVoxelPinchesAround, which looks only near the
  * changes, ends where the whole-grid pass ends, leaves no pinch, and reports each change with the label it undoes. */
 TEST(RemoveVoxelPinches, AroundChangesEndsAsTheWholeGridPass)
