@@ -26,10 +26,13 @@
 #include "itkInterpolateImageFunction.h"
 #include "itkMesh.h"
 
+#include <functional>
 #include <vector>
 
 namespace itk
 {
+
+struct ImageLabelMapping;
 
 /** \class DelaunayImageToMeshFilter
  * \brief Meshes a segmented 3-D image into tetrahedra with guaranteed quality and fidelity, by Delaunay
@@ -167,6 +170,10 @@ public:
   itkGetConstMacro(TopologyRegularizationRounds, unsigned int);
   /** How many voxels the last update's local regularisation (TopologyRegularizationRounds) changed. */
   itkGetConstMacro(NumberOfLocallyRegularizedVoxels, SizeValueType);
+  /** The bytes a voxel of the label image took during the last update: 1, 2 or 4, the fewest that hold every
+   * selected label (1 for an iso-value, merged labels, or labels within 0-255; 2 within 0-65535). The label image and
+   * the nearest-interface map are the refinement's largest buffers besides the mesh. */
+  itkGetConstMacro(BytesPerVoxelLabel, unsigned int);
 
   /** Where a boundary comes out non-manifold, first give tetrahedra there the label of a neighbour when that mends
    * the place, keeps the boundary made of surface samples and keeps its angles above 30° (a cone cut off, a gap
@@ -293,10 +300,18 @@ public:
 
   /** The voxel labels the last update meshed (after label selection, merging or the iso-value, with the joining
    * voxels), cropped to the object's voxels and one voxel of background around them (every voxel outside is
-   * background): the reference for fidelity measurements. */
+   * background): the reference for fidelity measurements. The filter keeps them as it meshed them, in one byte a
+   * voxel where every label fits (ImageLabelSelection::BytesPerVoxelLabel), and makes this image of LabelType at the
+   * first call after an update: a caller that never asks does not pay for four bytes a voxel. Not to be called
+   * from several threads at once. */
   const ObjectLabelImageType *
   GetObjectLabelImage() const
   {
+    if (m_MakeObjectLabelImage)
+    {
+      m_ObjectLabelImage = m_MakeObjectLabelImage();
+      m_MakeObjectLabelImage = nullptr;
+    }
     return m_ObjectLabelImage;
   }
 
@@ -344,6 +359,21 @@ private:
   MakeInterpolator(const InputImageType * image) const;
   void
   FillOutputs(const delaunay_refinement::TetrahedralMesh & mesh);
+  /** The oracle's set-up and the refinement, with the label image stored in TVoxelLabel (GenerateData() chooses the
+   * narrowest that holds every selected label); sets m_RefinedMesh, the label images and the reports, and returns
+   * the number of object voxels. */
+  template <typename TVoxelLabel>
+  SizeValueType
+  RefineWithVoxelLabels(const InputImageType * image, const InterpolatorType * interpolator,
+                        const ImageLabelMapping &                         mapping,
+                        const delaunay_refinement::RefinementParameters & parameters);
+  /** The share of the progress range the oracle's set-up reports (its label image, the regularisation, the
+   * nearest-interface map); the refinement reports the rest. */
+  static constexpr float SetUpProgressShare = 0.1f;
+  /** The labels as GetObjectLabelImage() gives them: the image itself when stored as LabelType, else a copy. */
+  template <typename TVoxelLabel>
+  static typename ObjectLabelImageType::ConstPointer
+  AsLabelImage(const Image<TVoxelLabel, 3> * voxelLabels);
   /** An abort from the progress observer, as ITK reports it. */
   [[noreturn]] void
   ThrowProcessAborted(const char * description) const;
@@ -364,6 +394,7 @@ private:
   bool          m_RelabelNonManifoldPlaces{ delaunay_refinement::RefinementParameters{}.relabelNonManifoldPlaces };
   bool          m_RefineThickParts{ delaunay_refinement::RefinementParameters{}.refineThickParts };
   SizeValueType m_NumberOfLocallyRegularizedVoxels{ 0 };
+  unsigned int  m_BytesPerVoxelLabel{ 0 };
   SizeValueType m_NumberOfJoiningVoxels{ 0 };
   InterpolatorPointer m_Interpolator;
   double              m_IsoValue{ 0.0 };
@@ -375,8 +406,10 @@ private:
   delaunay_refinement::TetrahedralMesh           m_RefinedMesh;
   delaunay_refinement::RefinementStatistics      m_RefinementStatistics;
   delaunay_refinement::LabelRegularizationReport m_RegularizationReport;
-  typename ObjectLabelImageType::ConstPointer    m_ObjectLabelImage;
-  typename ObjectLabelImageType::ConstPointer    m_SelectedLabelImage;
+  /** GetObjectLabelImage(), once made; until then m_MakeObjectLabelImage makes it from the labels as meshed. */
+  mutable typename ObjectLabelImageType::ConstPointer                  m_ObjectLabelImage;
+  mutable std::function<typename ObjectLabelImageType::ConstPointer()> m_MakeObjectLabelImage;
+  typename ObjectLabelImageType::ConstPointer                          m_SelectedLabelImage;
 };
 
 } // namespace itk

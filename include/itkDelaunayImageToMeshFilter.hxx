@@ -176,6 +176,109 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::ThrowProcessAborted(const c
 }
 
 template <typename TInputImage, typename TOutputMesh>
+template <typename TVoxelLabel>
+SizeValueType
+DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::RefineWithVoxelLabels(
+  const InputImageType * image, const InterpolatorType * interpolator, const ImageLabelMapping & mapping,
+  const delaunay_refinement::RefinementParameters & parameters)
+{
+  std::unique_ptr<ImageLabelOracle<InputImageType, TVoxelLabel>> oraclePointer;
+  try
+  {
+    oraclePointer = std::make_unique<ImageLabelOracle<InputImageType, TVoxelLabel>>(image, interpolator, mapping);
+  }
+  catch (const delaunay_refinement::RefinementAborted & error)
+  {
+    ThrowProcessAborted(error.what());
+  }
+  ImageLabelOracle<InputImageType, TVoxelLabel> & oracle = *oraclePointer;
+  // The oracle's label image outlives the oracle (the local regularisation changes it in place until then). It is
+  // kept as it is stored, and made LabelType when asked for (GetObjectLabelImage()).
+  const typename Image<TVoxelLabel, 3>::ConstPointer voxelLabels = oracle.GetLabelImage();
+  m_ObjectLabelImage = nullptr;
+  m_MakeObjectLabelImage = [voxelLabels] { return AsLabelImage(voxelLabels.GetPointer()); };
+  m_SelectedLabelImage = nullptr;
+  m_RegularizationReport = oracle.GetRegularizationReport();
+  m_NumberOfJoiningVoxels = oracle.GetNumberOfJoiningVoxels();
+  if (oracle.GetNumberOfObjectVoxels() == 0 && m_RegularizationReport.changedVoxels > 0)
+  {
+    itkExceptionMacro(<< "Every part of the object is thinner than the regularisation scale: the opening with radius "
+                      << "RegularizationScale x SurfaceSamplingDistance (delta) = " << m_RegularizationScale << " x "
+                      << m_EffectiveSurfaceSamplingDistance << " mm removed all of its "
+                      << m_RegularizationReport.changedVoxels
+                      << " voxels; choose a smaller SurfaceSamplingDistance (delta), or RegularizationScale 0 to mesh "
+                         "the voxels as they are.");
+  }
+  if (oracle.GetNumberOfObjectVoxels() == 0)
+  {
+    itkExceptionMacro(<< "No voxel of the input is part of the object ("
+                      << (m_UseIsoValue ? "no value >= the iso-value" : "no voxel carries a selected label")
+                      << "): there is nothing to mesh.");
+  }
+  this->UpdateProgress(SetUpProgressShare);
+  const delaunay_refinement::ProgressObserver observer =
+    [this](const delaunay_refinement::RefinementProgress & progress) {
+      this->UpdateProgress(SetUpProgressShare + (0.99f - SetUpProgressShare) * static_cast<float>(progress.fraction));
+      return !this->GetAbortGenerateData();
+    };
+
+  try
+  {
+    m_RefinedMesh =
+      delaunay_refinement::RefineMesh(oracle, parameters, &m_RefinementStatistics, observer, &oracle, &oracle);
+  }
+  catch (const delaunay_refinement::RefinementAborted & error)
+  {
+    ThrowProcessAborted(error.what());
+  }
+  catch (const delaunay_refinement::VertexLimitExceeded & error)
+  {
+    itkExceptionMacro(<< error.what() << " (MaximumNumberOfVertices = " << m_MaximumNumberOfVertices << ")");
+  }
+  catch (const delaunay_refinement::SliverRemovalWithoutEnd & error)
+  {
+    itkExceptionMacro(<< error.what() << " (MinimumDihedralAngle = " << m_MinimumDihedralAngle << ", valid range [0, "
+                      << delaunay_refinement::ParameterLimits::LargestMinimumDihedralAngle
+                      << "], 0 = off; RadiusEdgeBound = " << m_RadiusEdgeBound << ")");
+  }
+  m_NumberOfLocallyRegularizedVoxels = oracle.GetNumberOfLocallyRegularizedVoxels();
+  m_NumberOfJoiningVoxels = oracle.GetNumberOfJoiningVoxels();
+  const SizeValueType numberOfObjectVoxels = oracle.GetNumberOfObjectVoxels();
+  const bool          labelsDifferFromTheSelection = oracle.LabelsDifferFromTheSelection();
+  // The selection is made again from the input, once the oracle's per-voxel buffers are freed, rather than copied
+  // before the labels change and kept through the refinement: that copy was as large as the label image and made
+  // the peak memory (13 MB of 186 on the 1 mm brain mask).
+  oraclePointer.reset();
+  m_SelectedLabelImage = labelsDifferFromTheSelection
+                           ? ImageLabelSelection(mapping).SelectedLabelImage(*image, voxelLabels->GetBufferedRegion())
+                           : GetObjectLabelImage();
+  return numberOfObjectVoxels;
+}
+
+template <typename TInputImage, typename TOutputMesh>
+template <typename TVoxelLabel>
+auto
+DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::AsLabelImage(const Image<TVoxelLabel, 3> * voxelLabels) ->
+  typename ObjectLabelImageType::ConstPointer
+{
+  if constexpr (std::is_same_v<TVoxelLabel, LabelType>)
+  {
+    return voxelLabels;
+  }
+  else
+  {
+    auto labels = ObjectLabelImageType::New();
+    labels->CopyInformation(voxelLabels);
+    labels->SetRegions(voxelLabels->GetBufferedRegion());
+    labels->Allocate();
+    const SizeValueType count = voxelLabels->GetBufferedRegion().GetNumberOfPixels();
+    delaunay_refinement::AdviseHugePages(labels->GetBufferPointer(), count * sizeof(LabelType));
+    std::copy_n(voxelLabels->GetBufferPointer(), count, labels->GetBufferPointer());
+    return labels;
+  }
+}
+
+template <typename TInputImage, typename TOutputMesh>
 void
 DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
 {
@@ -212,9 +315,6 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
                       << ": the valid range is [0, 0.5] (a fraction of delta; 0 = no regularisation)");
   }
 
-  // The oracle's set-up (its label image, the regularisation, the nearest-interface map) reports the first part of
-  // the progress range; the refinement the rest.
-  constexpr float setupShare = 0.1f;
   this->UpdateProgress(0.0f);
   const InterpolatorPointer interpolator = MakeInterpolator(image);
   const ImageLabelMapping   mapping{ m_Labels,
@@ -224,79 +324,28 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
                                    m_JoinDiagonalVoxels,
                                    m_RegularizationScale * m_EffectiveSurfaceSamplingDistance,
                                    [this](double setUpFraction) {
-                                     this->UpdateProgress(setupShare * static_cast<float>(setUpFraction));
+                                     this->UpdateProgress(SetUpProgressShare * static_cast<float>(setUpFraction));
                                      return !this->GetAbortGenerateData();
                                    },
                                    std::min(this->GetNumberOfWorkUnits(),
                                             this->GetMultiThreader()->GetMaximumNumberOfThreads()) };
-  std::unique_ptr<ImageLabelOracle<InputImageType>> oraclePointer;
-  try
+  // The label image is the refinement's largest buffer with the nearest-interface map: in one byte a voxel where
+  // every selected label fits, it takes a quarter of the memory it took in four (bench/README.md, "The label image
+  // in one byte a voxel").
+  SizeValueType numberOfObjectVoxels = 0;
+  m_BytesPerVoxelLabel = ImageLabelSelection(mapping).BytesPerVoxelLabel(*image);
+  switch (m_BytesPerVoxelLabel)
   {
-    oraclePointer = std::make_unique<ImageLabelOracle<InputImageType>>(image, interpolator, mapping);
+    case 1:
+      numberOfObjectVoxels = RefineWithVoxelLabels<uint8_t>(image, interpolator, mapping, parameters);
+      break;
+    case 2:
+      numberOfObjectVoxels = RefineWithVoxelLabels<uint16_t>(image, interpolator, mapping, parameters);
+      break;
+    default:
+      numberOfObjectVoxels = RefineWithVoxelLabels<LabelType>(image, interpolator, mapping, parameters);
+      break;
   }
-  catch (const delaunay_refinement::RefinementAborted & error)
-  {
-    ThrowProcessAborted(error.what());
-  }
-  ImageLabelOracle<InputImageType> & oracle = *oraclePointer;
-  m_ObjectLabelImage = oracle.GetLabelImage();
-  m_SelectedLabelImage = nullptr;
-  m_RegularizationReport = oracle.GetRegularizationReport();
-  m_NumberOfJoiningVoxels = oracle.GetNumberOfJoiningVoxels();
-  if (oracle.GetNumberOfObjectVoxels() == 0 && m_RegularizationReport.changedVoxels > 0)
-  {
-    itkExceptionMacro(<< "Every part of the object is thinner than the regularisation scale: the opening with radius "
-                      << "RegularizationScale x SurfaceSamplingDistance (delta) = " << m_RegularizationScale << " x "
-                      << m_EffectiveSurfaceSamplingDistance << " mm removed all of its "
-                      << m_RegularizationReport.changedVoxels
-                      << " voxels; choose a smaller SurfaceSamplingDistance (delta), or RegularizationScale 0 to mesh "
-                         "the voxels as they are.");
-  }
-  if (oracle.GetNumberOfObjectVoxels() == 0)
-  {
-    itkExceptionMacro(<< "No voxel of the input is part of the object ("
-                      << (m_UseIsoValue ? "no value >= the iso-value" : "no voxel carries a selected label")
-                      << "): there is nothing to mesh.");
-  }
-  this->UpdateProgress(setupShare);
-  const delaunay_refinement::ProgressObserver observer =
-    [this](const delaunay_refinement::RefinementProgress & progress) {
-      this->UpdateProgress(setupShare + (0.99f - setupShare) * static_cast<float>(progress.fraction));
-      return !this->GetAbortGenerateData();
-    };
-
-  try
-  {
-    m_RefinedMesh =
-      delaunay_refinement::RefineMesh(oracle, parameters, &m_RefinementStatistics, observer, &oracle, &oracle);
-  }
-  catch (const delaunay_refinement::RefinementAborted & error)
-  {
-    ThrowProcessAborted(error.what());
-  }
-  catch (const delaunay_refinement::VertexLimitExceeded & error)
-  {
-    itkExceptionMacro(<< error.what() << " (MaximumNumberOfVertices = " << m_MaximumNumberOfVertices << ")");
-  }
-  catch (const delaunay_refinement::SliverRemovalWithoutEnd & error)
-  {
-    itkExceptionMacro(<< error.what() << " (MinimumDihedralAngle = " << m_MinimumDihedralAngle << ", valid range [0, "
-                      << delaunay_refinement::ParameterLimits::LargestMinimumDihedralAngle
-                      << "], 0 = off; RadiusEdgeBound = " << m_RadiusEdgeBound << ")");
-  }
-  // The local regularisation changes the oracle's label image in place (m_ObjectLabelImage shares it).
-  m_NumberOfLocallyRegularizedVoxels = oracle.GetNumberOfLocallyRegularizedVoxels();
-  m_NumberOfJoiningVoxels = oracle.GetNumberOfJoiningVoxels();
-  const SizeValueType numberOfObjectVoxels = oracle.GetNumberOfObjectVoxels();
-  const bool          labelsDifferFromTheSelection = oracle.LabelsDifferFromTheSelection();
-  // The selection is made again from the input, once the oracle's per-voxel buffers are freed, rather than copied
-  // before the labels change and kept through the refinement: that copy was as large as the label image and made
-  // the peak memory (13 MB of 186 on the 1 mm brain mask).
-  oraclePointer.reset();
-  m_SelectedLabelImage =
-    labelsDifferFromTheSelection
-      ? ImageLabelSelection(mapping).SelectedLabelImage(*image, m_ObjectLabelImage->GetBufferedRegion())
-      : m_ObjectLabelImage;
   if (m_RefinedMesh.tetrahedra.empty())
   {
     itkExceptionMacro(<< "The refinement produced no tetrahedron: the object (" << numberOfObjectVoxels
@@ -406,6 +455,7 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf(std::ostream & os
      << (m_RefinementStatistics.topologyRegularizationBudgetReached ? " (the regularisation reached its budget)" : "")
      << std::endl;
   os << indent << "ObjectLabelImage: " << m_ObjectLabelImage.GetPointer() << std::endl;
+  os << indent << "BytesPerVoxelLabel: " << m_BytesPerVoxelLabel << std::endl;
 }
 
 } // namespace itk

@@ -56,9 +56,13 @@ namespace itk
  *
  * Not an itk::Object: it is the adaptor between an image and the ITK-free refinement core.
  *
+ * TVoxelLabel is how the label image stores a label (a delaunay_refinement::IsVoxelLabelType): the filter chooses
+ * the narrowest type every selected label fits in (ImageLabelSelection::NarrowestVoxelLabelType), so that the label
+ * image of most segmentations takes one byte a voxel instead of four. The meshes are the same whichever it is.
+ *
  * \ingroup DelaunayImageToMesh
  */
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel = delaunay_refinement::Label>
 class ITK_TEMPLATE_EXPORT ImageLabelOracle
   : public delaunay_refinement::LabelOracle
   , public delaunay_refinement::TopologyRegularizer
@@ -67,11 +71,13 @@ class ITK_TEMPLATE_EXPORT ImageLabelOracle
 public:
   static constexpr unsigned int ImageDimension = TInputImage::ImageDimension;
   static_assert(ImageDimension == 3, "ImageLabelOracle needs a 3-D image");
+  static_assert(delaunay_refinement::IsVoxelLabelType<TVoxelLabel>, "labels are stored as Label, uint16_t or uint8_t");
 
   using InputImageType = TInputImage;
   using InterpolatorType = InterpolateImageFunction<InputImageType, double>;
   using LabelType = delaunay_refinement::Label;
-  using LabelImageType = Image<LabelType, 3>;
+  using VoxelLabelType = TVoxelLabel;
+  using LabelImageType = Image<VoxelLabelType, 3>;
   using IndexType = typename LabelImageType::IndexType;
   using PointType = typename LabelImageType::PointType;
   using Vector3 = delaunay_refinement::Vector3;
@@ -185,7 +191,7 @@ private:
    * x of each slice, and the pass along y on the lines through those columns). Where those columns' values would
    * take more than a byte per voxel, the whole map is made again instead. */
   void
-  UpdateNearestInterfaceMap(const std::vector<SizeValueType> & slices, std::map<std::size_t, LabelType> & originals);
+  UpdateNearestInterfaceMap(const std::vector<SizeValueType> & slices, std::map<std::size_t, TVoxelLabel> & originals);
   /** One z-slice's nearest interface voxels after the marking and the pass along x (its own rows' interface
    * voxels), into `values` (the slice's voxels in buffer order). */
   void

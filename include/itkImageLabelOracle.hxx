@@ -32,9 +32,10 @@
 namespace itk
 {
 
-template <typename TInputImage>
-ImageLabelOracle<TInputImage>::ImageLabelOracle(const InputImageType * image, const InterpolatorType * interpolator,
-                                                ImageLabelMapping mapping)
+template <typename TInputImage, typename TVoxelLabel>
+ImageLabelOracle<TInputImage, TVoxelLabel>::ImageLabelOracle(const InputImageType *   image,
+                                                             const InterpolatorType * interpolator,
+                                                             ImageLabelMapping        mapping)
   : m_Image(image)
   , m_Interpolator(interpolator)
   , m_Mapping(std::move(mapping))
@@ -56,9 +57,9 @@ ImageLabelOracle<TInputImage>::ImageLabelOracle(const InputImageType * image, co
   m_SettingUp = false;
 }
 
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 void
-ImageLabelOracle<TInputImage>::SetUpCheckpoint(double fraction) const
+ImageLabelOracle<TInputImage, TVoxelLabel>::SetUpCheckpoint(double fraction) const
 {
   if (m_SettingUp && m_Mapping.keepGoing && !m_Mapping.keepGoing(fraction))
   {
@@ -69,9 +70,9 @@ ImageLabelOracle<TInputImage>::SetUpCheckpoint(double fraction) const
 /** The oracle's own label image covers the object's voxels and one voxel of background around them (the input's
  * buffered region padded by one voxel, cropped to that): every interface voxel is in it, and the feature transform
  * does no work on background far from the object. */
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 void
-ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
+ImageLabelOracle<TInputImage, TVoxelLabel>::BuildLabelImage(const InputImageType * image)
 {
   const auto & buffered = image->GetBufferedRegion();
   IndexType    lowest;
@@ -114,7 +115,7 @@ ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
     }
   }
   kept.PadByRadius(1);
-  m_LabelImage = m_Selection.SelectedLabelImage(*image, kept);
+  m_LabelImage = m_Selection.template SelectedLabelImage<TVoxelLabel>(*image, kept);
   m_BufferStrides = { 1, kept.GetSize()[0], kept.GetSize()[0] * kept.GetSize()[1] };
   SetUpCheckpoint(SetUpProgressAfter::selection);
   if (m_Mapping.regularizationRadius > 0.0 && LabelsAreRegularizable() && m_NumberOfObjectVoxels > 0)
@@ -175,13 +176,13 @@ ImageLabelOracle<TInputImage>::BuildLabelImage(const InputImageType * image)
 
 /** Voxels with a face neighbour of another label, the voxels the surface passes next to, are their own nearest
  * interface voxel; in the z-slices [firstSlice, endSlice), whose face neighbours in the slices beside count too. */
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 void
-ImageLabelOracle<TInputImage>::MarkInterfaceVoxels(SizeValueType firstSlice, SizeValueType endSlice,
-                                                   uint32_t * values) const
+ImageLabelOracle<TInputImage, TVoxelLabel>::MarkInterfaceVoxels(SizeValueType firstSlice, SizeValueType endSlice,
+                                                                uint32_t * values) const
 {
   const auto &        size = m_LabelImage->GetBufferedRegion().GetSize();
-  const LabelType *   labels = m_LabelImage->GetBufferPointer();
+  const TVoxelLabel * labels = m_LabelImage->GetBufferPointer();
   const SizeValueType strides[3] = { 1, size[0], size[0] * size[1] };
   const SizeValueType beforeFirst = firstSlice > 0 ? firstSlice - 1 : 0;
   const SizeValueType firstOffset = firstSlice * strides[2];
@@ -217,10 +218,11 @@ ImageLabelOracle<TInputImage>::MarkInterfaceVoxels(SizeValueType firstSlice, Siz
 /** Squared physical distance along the axes before `axis` from a voxel whose coordinates on those axes
  * are `coordinates` to the voxel at `lowerOffset` within the same lower-axes block (the buffer offset minus the
  * part due to `axis` and the axes after it). Called once per voxel and pass: one 32-bit division at most. */
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 double
-ImageLabelOracle<TInputImage>::SquaredDistanceAlongLowerAxes(const SizeValueType * coordinates,
-                                                             SizeValueType lowerOffset, unsigned int axis) const
+ImageLabelOracle<TInputImage, TVoxelLabel>::SquaredDistanceAlongLowerAxes(const SizeValueType * coordinates,
+                                                                          SizeValueType         lowerOffset,
+                                                                          unsigned int          axis) const
 {
   if (axis == 0)
   {
@@ -242,10 +244,10 @@ ImageLabelOracle<TInputImage>::SquaredDistanceAlongLowerAxes(const SizeValueType
  * parabolas, each carrying its interface voxel): afterwards every voxel knows the nearest of the interface voxels
  * that the earlier passes gave to the voxels of its line along `axis`. Those earlier passes moved interface voxels
  * along the lower axes only, so a voxel and its interface voxel differ along the lower axes only. */
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 void
-ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlong(unsigned int axis, SizeValueType firstLine,
-                                                              SizeValueType endLine)
+ImageLabelOracle<TInputImage, TVoxelLabel>::PropagateNearestInterfaceAlong(unsigned int axis, SizeValueType firstLine,
+                                                                           SizeValueType endLine)
 {
   const auto & size = m_LabelImage->GetBufferedRegion().GetSize();
   if (axis == 0)
@@ -288,9 +290,9 @@ ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlong(unsigned int axis,
  * between the midpoints to its neighbours: the voxels between two sites take the nearer, found with the same
  * arithmetic as the envelope (the boundary as PropagateNearestInterfaceAlongLine() computes it, a voxel exactly on
  * it taking the left site), so the map is the same bit for bit without the envelope's bookkeeping. */
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 void
-ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlongRow(uint32_t * row) const
+ImageLabelOracle<TInputImage, TVoxelLabel>::PropagateNearestInterfaceAlongRow(uint32_t * row) const
 {
   constexpr uint32_t  none = std::numeric_limits<uint32_t>::max();
   const double        step = m_LabelImage->GetSpacing()[0];
@@ -325,11 +327,13 @@ ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlongRow(uint32_t * row)
   }
 }
 
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 void
-ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlongLine(unsigned int axis, SizeValueType lineStart,
-                                                                  uint32_t * values, SizeValueType valueStride,
-                                                                  LowerEnvelope & envelope) const
+ImageLabelOracle<TInputImage, TVoxelLabel>::PropagateNearestInterfaceAlongLine(unsigned int    axis,
+                                                                               SizeValueType   lineStart,
+                                                                               uint32_t *      values,
+                                                                               SizeValueType   valueStride,
+                                                                               LowerEnvelope & envelope) const
 {
   constexpr uint32_t    none = std::numeric_limits<uint32_t>::max();
   constexpr double      infinity = std::numeric_limits<double>::infinity();
@@ -386,9 +390,9 @@ ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlongLine(unsigned int a
   }
 }
 
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 void
-ImageLabelOracle<TInputImage>::BuildNearestInterfaceMap()
+ImageLabelOracle<TInputImage, TVoxelLabel>::BuildNearestInterfaceMap()
 {
   const SizeValueType numberOfVoxels = m_LabelImage->GetBufferedRegion().GetNumberOfPixels();
   if (numberOfVoxels >= std::numeric_limits<uint32_t>::max())
@@ -413,9 +417,9 @@ ImageLabelOracle<TInputImage>::BuildNearestInterfaceMap()
   PropagateNearestInterfaceAlongInParallel(2, SetUpProgressAfter::passAlongY, 1.0);
 }
 
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 void
-ImageLabelOracle<TInputImage>::MakeRowValuesOfSlice(SizeValueType slice, uint32_t * values) const
+ImageLabelOracle<TInputImage, TVoxelLabel>::MakeRowValuesOfSlice(SizeValueType slice, uint32_t * values) const
 {
   const auto & size = m_LabelImage->GetBufferedRegion().GetSize();
   std::fill(values, values + size[0] * size[1], std::numeric_limits<uint32_t>::max());
@@ -426,9 +430,9 @@ ImageLabelOracle<TInputImage>::MakeRowValuesOfSlice(SizeValueType slice, uint32_
   }
 }
 
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 void
-ImageLabelOracle<TInputImage>::MakeValuesOfSlice(SizeValueType slice, uint32_t * values) const
+ImageLabelOracle<TInputImage, TVoxelLabel>::MakeValuesOfSlice(SizeValueType slice, uint32_t * values) const
 {
   const auto & size = m_LabelImage->GetBufferedRegion().GetSize();
   MakeRowValuesOfSlice(slice, values);
@@ -439,10 +443,11 @@ ImageLabelOracle<TInputImage>::MakeValuesOfSlice(SizeValueType slice, uint32_t *
   }
 }
 
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 void
-ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlongInParallel(unsigned int axis, double firstFraction,
-                                                                        double endFraction)
+ImageLabelOracle<TInputImage, TVoxelLabel>::PropagateNearestInterfaceAlongInParallel(unsigned int axis,
+                                                                                     double       firstFraction,
+                                                                                     double       endFraction)
 {
   const SizeValueType length = m_LabelImage->GetBufferedRegion().GetSize()[axis];
   InParallel(
@@ -453,11 +458,12 @@ ImageLabelOracle<TInputImage>::PropagateNearestInterfaceAlongInParallel(unsigned
     endFraction);
 }
 
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 template <typename TWork>
 void
-ImageLabelOracle<TInputImage>::InParallel(SizeValueType count, SizeValueType voxelsPerItem, const TWork & work,
-                                          double firstFraction, double endFraction) const
+ImageLabelOracle<TInputImage, TVoxelLabel>::InParallel(SizeValueType count, SizeValueType voxelsPerItem,
+                                                       const TWork & work, double firstFraction,
+                                                       double endFraction) const
 {
   // Below this many voxels per thread, starting a thread costs more than it saves.
   constexpr SizeValueType minimumVoxelsPerThread = 1 << 16;
@@ -495,10 +501,10 @@ ImageLabelOracle<TInputImage>::InParallel(SizeValueType count, SizeValueType vox
   }
 }
 
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 void
-ImageLabelOracle<TInputImage>::UpdateNearestInterfaceMap(const std::vector<SizeValueType> & slices,
-                                                         std::map<std::size_t, LabelType> & originals)
+ImageLabelOracle<TInputImage, TVoxelLabel>::UpdateNearestInterfaceMap(const std::vector<SizeValueType> &   slices,
+                                                                      std::map<std::size_t, TVoxelLabel> & originals)
 {
   if (slices.empty())
   {
@@ -513,8 +519,8 @@ ImageLabelOracle<TInputImage>::UpdateNearestInterfaceMap(const std::vector<SizeV
     BuildNearestInterfaceMap();
     return;
   }
-  LabelType * const labels = m_LabelImage->GetBufferPointer();
-  const auto        swapLabels = [&] {
+  TVoxelLabel * const labels = m_LabelImage->GetBufferPointer();
+  const auto          swapLabels = [&] {
     for (auto & [offset, label] : originals)
     {
       std::swap(labels[offset], label);
@@ -590,9 +596,9 @@ ImageLabelOracle<TInputImage>::UpdateNearestInterfaceMap(const std::vector<SizeV
   }
 }
 
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 bool
-ImageLabelOracle<TInputImage>::VoxelOffsetAt(const Vector3 & point, SizeValueType & offset) const
+ImageLabelOracle<TInputImage, TVoxelLabel>::VoxelOffsetAt(const Vector3 & point, SizeValueType & offset) const
 {
   // The same arithmetic as the nearest-neighbour interpolator's, on the padded label image (same geometry). The
   // overload that returns the index skips the region test, which the buffer test below makes redundant.
@@ -621,17 +627,17 @@ ImageLabelOracle<TInputImage>::VoxelOffsetAt(const Vector3 & point, SizeValueTyp
   return true;
 }
 
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 auto
-ImageLabelOracle<TInputImage>::VoxelLabelAt(const Vector3 & point) const -> LabelType
+ImageLabelOracle<TInputImage, TVoxelLabel>::VoxelLabelAt(const Vector3 & point) const -> LabelType
 {
   SizeValueType offset = 0;
   return VoxelOffsetAt(point, offset) ? m_LabelImage->GetBufferPointer()[offset] : delaunay_refinement::BackgroundLabel;
 }
 
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 auto
-ImageLabelOracle<TInputImage>::LabelAt(const Vector3 & point) const -> LabelType
+ImageLabelOracle<TInputImage, TVoxelLabel>::LabelAt(const Vector3 & point) const -> LabelType
 {
   if (m_LabelsAreVoxelwise)
   {
@@ -655,9 +661,9 @@ ImageLabelOracle<TInputImage>::LabelAt(const Vector3 & point) const -> LabelType
   return m_Selection.LabelOf(m_Interpolator->EvaluateAtContinuousIndex(continuousIndex));
 }
 
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 delaunay_refinement::AxisAlignedBox
-ImageLabelOracle<TInputImage>::ObjectBounds() const
+ImageLabelOracle<TInputImage, TVoxelLabel>::ObjectBounds() const
 {
   if (m_NumberOfObjectVoxels == 0)
   {
@@ -666,9 +672,9 @@ ImageLabelOracle<TInputImage>::ObjectBounds() const
   return m_ObjectBounds;
 }
 
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 auto
-ImageLabelOracle<TInputImage>::CenterOf(const IndexType & index) const -> Vector3
+ImageLabelOracle<TInputImage, TVoxelLabel>::CenterOf(const IndexType & index) const -> Vector3
 {
   PointType point;
   m_LabelImage->TransformIndexToPhysicalPoint(index, point);
@@ -678,9 +684,9 @@ ImageLabelOracle<TInputImage>::CenterOf(const IndexType & index) const -> Vector
 /** The interface voxels nearest to the eight voxel centres around `query` (the feature transform is exact at
  * voxel centres only, and on an anisotropic grid the face nearest to a point need not belong to the interface
  * voxel nearest to its nearest centre), as buffer offsets, in the order of the corners (repeats included). */
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 auto
-ImageLabelOracle<TInputImage>::InterfaceVoxelsAround(const ContinuousIndex<double, 3> & queryIndex) const
+ImageLabelOracle<TInputImage, TVoxelLabel>::InterfaceVoxelsAround(const ContinuousIndex<double, 3> & queryIndex) const
   -> InterfaceVoxelCandidates
 {
   const auto &  region = m_LabelImage->GetBufferedRegion();
@@ -714,15 +720,15 @@ ImageLabelOracle<TInputImage>::InterfaceVoxelsAround(const ContinuousIndex<doubl
  * axis order. Face centres, not the faces' closest points: they lie on the surface that marching cubes and CGAL's
  * labelled-image domain see (half-way between voxel centres), where the corners of the voxels' staircase do not.
  * Works on 32-bit buffer offsets (the padded image has fewer than 2^32 voxels): this is the oracle's hot path. */
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 auto
-ImageLabelOracle<TInputImage>::NearestInterfaceFace(const Vector3 & query) const -> InterfaceFace
+ImageLabelOracle<TInputImage, TVoxelLabel>::NearestInterfaceFace(const Vector3 & query) const -> InterfaceFace
 {
   const auto queryIndex =
     m_LabelImage->template TransformPhysicalPointToContinuousIndex<double>(PointType(query.data()));
   const auto &                   region = m_LabelImage->GetBufferedRegion();
   const auto &                   spacing = m_LabelImage->GetSpacing();
-  const LabelType *              labels = m_LabelImage->GetBufferPointer();
+  const TVoxelLabel *            labels = m_LabelImage->GetBufferPointer();
   const InterfaceVoxelCandidates candidates = InterfaceVoxelsAround(queryIndex);
   const uint32_t                 strides[3] = { 1,
                                                 static_cast<uint32_t>(m_BufferStrides[1]),
@@ -780,9 +786,9 @@ ImageLabelOracle<TInputImage>::NearestInterfaceFace(const Vector3 & query) const
            std::sqrt(nearestSquaredDistance) };
 }
 
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 bool
-ImageLabelOracle<TInputImage>::NearestInterfaceVoxel(const IndexType & index, IndexType & nearest) const
+ImageLabelOracle<TInputImage, TVoxelLabel>::NearestInterfaceVoxel(const IndexType & index, IndexType & nearest) const
 {
   const auto & region = m_LabelImage->GetBufferedRegion();
   if (m_NearestInterfaceVoxel.empty() || !region.IsInside(index))
@@ -798,18 +804,18 @@ ImageLabelOracle<TInputImage>::NearestInterfaceVoxel(const IndexType & index, In
   return true;
 }
 
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 std::array<uint32_t, 3>
-ImageLabelOracle<TInputImage>::BufferCoordinatesOf(uint32_t offset) const
+ImageLabelOracle<TInputImage, TVoxelLabel>::BufferCoordinatesOf(uint32_t offset) const
 {
   const auto stride1 = static_cast<uint32_t>(m_BufferStrides[1]);
   const auto size1 = static_cast<uint32_t>(m_LabelImage->GetBufferedRegion().GetSize()[1]);
   return { offset % stride1, (offset / stride1) % size1, offset / static_cast<uint32_t>(m_BufferStrides[2]) };
 }
 
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 double
-ImageLabelOracle<TInputImage>::IndexDistance(const double * a, const double * b) const
+ImageLabelOracle<TInputImage, TVoxelLabel>::IndexDistance(const double * a, const double * b) const
 {
   // In index space the metric is diagonal (orthonormal direction, one spacing per axis).
   const auto & spacing = m_LabelImage->GetSpacing();
@@ -827,9 +833,9 @@ ImageLabelOracle<TInputImage>::IndexDistance(const double * a, const double * b)
  * centre). Upper: w's interface faces are among those searched, and each is within |q - w| + h. Lower: every face
  * centre is within h of an interface voxel centre, and none of those is nearer to v than w (the feature transform is
  * exact at voxel centres), so none is nearer to q than |v - w| - |q - v|. */
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 delaunay_refinement::SurfaceDistanceBounds
-ImageLabelOracle<TInputImage>::BoundSurfaceDistance(const Vector3 & query) const
+ImageLabelOracle<TInputImage, TVoxelLabel>::BoundSurfaceDistance(const Vector3 & query) const
 {
   if (!m_LabelsAreVoxelwise || m_NumberOfObjectVoxels == 0)
   {
@@ -870,9 +876,10 @@ ImageLabelOracle<TInputImage>::BoundSurfaceDistance(const Vector3 & query) const
            queryToInterface + halfLargestSpacing + rounding };
 }
 
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 auto
-ImageLabelOracle<TInputImage>::FaceCenterOf(const IndexType & voxel, const IndexType & neighbor) const -> Vector3
+ImageLabelOracle<TInputImage, TVoxelLabel>::FaceCenterOf(const IndexType & voxel, const IndexType & neighbor) const
+  -> Vector3
 {
   ContinuousIndex<double, 3> faceCenter;
   for (unsigned int axis = 0; axis < 3; ++axis)
@@ -884,9 +891,9 @@ ImageLabelOracle<TInputImage>::FaceCenterOf(const IndexType & voxel, const Index
   return { point[0], point[1], point[2] };
 }
 
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 delaunay_refinement::SurfacePoint
-ImageLabelOracle<TInputImage>::ClosestSurfacePoint(const Vector3 & query) const
+ImageLabelOracle<TInputImage, TVoxelLabel>::ClosestSurfacePoint(const Vector3 & query) const
 {
   // The vector operators live in the core's namespace, which argument-dependent lookup on std::array misses.
   using delaunay_refinement::Distance;
@@ -918,9 +925,9 @@ ImageLabelOracle<TInputImage>::ClosestSurfacePoint(const Vector3 & query) const
   return { middle, Distance(query, middle) };
 }
 
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 double
-ImageLabelOracle<TInputImage>::SurfaceTolerance() const
+ImageLabelOracle<TInputImage, TVoxelLabel>::SurfaceTolerance() const
 {
   return m_SurfaceTolerance;
 }

@@ -38,19 +38,19 @@
 namespace itk
 {
 
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 void
-ImageLabelOracle<TInputImage>::CountObjectVoxels()
+ImageLabelOracle<TInputImage, TVoxelLabel>::CountObjectVoxels()
 {
-  const LabelType * labels = m_LabelImage->GetBufferPointer();
-  const auto        count = m_LabelImage->GetBufferedRegion().GetNumberOfPixels();
+  const TVoxelLabel * labels = m_LabelImage->GetBufferPointer();
+  const auto          count = m_LabelImage->GetBufferedRegion().GetNumberOfPixels();
   m_NumberOfObjectVoxels = static_cast<SizeValueType>(std::count_if(
     labels, labels + count, [](LabelType label) { return label != delaunay_refinement::BackgroundLabel; }));
 }
 
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 void
-ImageLabelOracle<TInputImage>::CarryLabelsIntoValues(const std::vector<SizeValueType> * offsets)
+ImageLabelOracle<TInputImage, TVoxelLabel>::CarryLabelsIntoValues(const std::vector<SizeValueType> * offsets)
 {
   using ValueType = typename InputImageType::PixelType;
   using ValueLimits = NumericTraits<ValueType>;
@@ -115,7 +115,7 @@ ImageLabelOracle<TInputImage>::CarryLabelsIntoValues(const std::vector<SizeValue
   const auto & valueRegion = m_CarriedValues->GetBufferedRegion();
   if (offsets)
   {
-    const LabelType * labels = m_LabelImage->GetBufferPointer();
+    const TVoxelLabel * labels = m_LabelImage->GetBufferPointer();
     for (const SizeValueType offset : *offsets)
     {
       const IndexType index = m_LabelImage->ComputeIndex(static_cast<OffsetValueType>(offset));
@@ -134,10 +134,11 @@ ImageLabelOracle<TInputImage>::CarryLabelsIntoValues(const std::vector<SizeValue
   }
 }
 
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 void
-ImageLabelOracle<TInputImage>::RegularizeBall(const delaunay_refinement::NonManifoldPlace & place, double radius,
-                                              bool otherChoice, std::vector<delaunay_refinement::VoxelChange> & changes)
+ImageLabelOracle<TInputImage, TVoxelLabel>::RegularizeBall(const delaunay_refinement::NonManifoldPlace & place,
+                                                           double radius, bool otherChoice,
+                                                           std::vector<delaunay_refinement::VoxelChange> & changes)
 {
   // The outer layer of the label image stays background: the feature transform needs every interface inside.
   const auto & buffered = m_LabelImage->GetBufferedRegion();
@@ -168,7 +169,7 @@ ImageLabelOracle<TInputImage>::RegularizeBall(const delaunay_refinement::NonMani
   typename LabelImageType::RegionType box;
   box.SetIndex(lower);
   box.SetUpperIndex(upper);
-  std::vector<LabelType *>           inside;
+  std::vector<TVoxelLabel *>         inside;
   std::map<LabelType, SizeValueType> counts;
   bool                               reachesOuterLayer = false;
   for (ImageRegionIteratorWithIndex<LabelImageType> it(m_LabelImage, box); !it.IsAtEnd(); ++it)
@@ -215,23 +216,23 @@ ImageLabelOracle<TInputImage>::RegularizeBall(const delaunay_refinement::NonMani
   {
     replacement = replacement == place.label ? mostFrequentOther : place.label;
   }
-  LabelType * const buffer = m_LabelImage->GetBufferPointer();
-  for (LabelType * voxel : inside)
+  TVoxelLabel * const buffer = m_LabelImage->GetBufferPointer();
+  for (TVoxelLabel * voxel : inside)
   {
     // Filling: every voxel takes the place's label; cutting: the place's voxels take the replacement.
     const bool fill = replacement == place.label;
     if ((fill && *voxel != place.label) || (!fill && *voxel == place.label))
     {
       changes.push_back({ static_cast<std::size_t>(voxel - buffer), *voxel });
-      *voxel = replacement;
+      *voxel = static_cast<TVoxelLabel>(replacement);
     }
   }
 }
 
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 std::vector<delaunay_refinement::Ball>
-ImageLabelOracle<TInputImage>::RegularizeAround(const std::vector<delaunay_refinement::NonManifoldPlace> & places,
-                                                double                                                     radius)
+ImageLabelOracle<TInputImage, TVoxelLabel>::RegularizeAround(
+  const std::vector<delaunay_refinement::NonManifoldPlace> & places, double radius)
 {
   std::vector<delaunay_refinement::Ball> balls;
   if (!LabelsAreRegularizable() || m_NumberOfObjectVoxels == 0)
@@ -260,7 +261,7 @@ ImageLabelOracle<TInputImage>::RegularizeAround(const std::vector<delaunay_refin
   }
   // The labels changed: their parts are found again when next asked for.
   m_LabelParts.reset();
-  LabelType * const                             labels = m_LabelImage->GetBufferPointer();
+  TVoxelLabel * const                           labels = m_LabelImage->GetBufferPointer();
   const auto &                                  size = m_LabelImage->GetBufferedRegion().GetSize();
   SizeValueType                                 joiningVoxels = 0;
   SizeValueType                                 changedInBalls = changes.size();
@@ -285,8 +286,8 @@ ImageLabelOracle<TInputImage>::RegularizeAround(const std::vector<delaunay_refin
   };
   joinDiagonalVoxelsAfter(0);
   // The first change of a voxel holds the label it had before this call.
-  std::map<std::size_t, LabelType> originals;
-  const auto                       recordOriginals = [&](std::size_t first) {
+  std::map<std::size_t, TVoxelLabel> originals;
+  const auto                         recordOriginals = [&](std::size_t first) {
     for (std::size_t change = first; change < changes.size(); ++change)
     {
       originals.emplace(changes[change].offset, changes[change].before);
@@ -390,10 +391,10 @@ ImageLabelOracle<TInputImage>::RegularizeAround(const std::vector<delaunay_refin
   return balls;
 }
 
-template <typename TInputImage>
+template <typename TInputImage, typename TVoxelLabel>
 std::vector<delaunay_refinement::UnmeshedPart>
-ImageLabelOracle<TInputImage>::PartsHoldingNone(const delaunay_refinement::LabelledPoints & points, double radiusLimit,
-                                                double maximumVolume) const
+ImageLabelOracle<TInputImage, TVoxelLabel>::PartsHoldingNone(const delaunay_refinement::LabelledPoints & points,
+                                                             double radiusLimit, double maximumVolume) const
 {
   std::vector<delaunay_refinement::UnmeshedPart> parts;
   if (!LabelsAreRegularizable() || m_NumberOfObjectVoxels == 0)
@@ -405,9 +406,9 @@ ImageLabelOracle<TInputImage>::PartsHoldingNone(const delaunay_refinement::Label
   // tetrahedron after refining 687 of them). The values at a point interpolate the eight voxel centres around it,
   // all within a voxel diagonal of it: so the interpolated part surely holds its voxels' ball less a diagonal, and
   // that is the ball the census measures.
-  const double             beyondVoxels = m_LabelsAreVoxelwise ? 0.0 : VoxelDiagonal();
-  const LabelType * const  labels = m_LabelImage->GetBufferPointer();
-  std::vector<std::size_t> marked;
+  const double              beyondVoxels = m_LabelsAreVoxelwise ? 0.0 : VoxelDiagonal();
+  const TVoxelLabel * const labels = m_LabelImage->GetBufferPointer();
+  std::vector<std::size_t>  marked;
   points([&](const delaunay_refinement::LabelledPoint & point) {
     SizeValueType offset = 0;
     if (VoxelOffsetAt(point.point, offset) && labels[offset] == point.label)

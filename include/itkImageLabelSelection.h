@@ -185,19 +185,67 @@ public:
     }
   }
 
-  /** A new image over `region`, in the geometry of `image`: each voxel the label of the voxel of `image` there,
-   * background outside `image`'s buffered region. */
+  /** The bytes a voxel needs to store every label this selection gives the voxels of `image` (1, 2 or 4: uint8_t,
+   * uint16_t or LabelType, SelectedLabelImage()'s TVoxelLabel): one for an iso-value, merged labels, or labels within
+   * 0-255; two for labels within 0-65535; four for the rest (negative labels, larger ones). From the selected labels
+   * when there are some, else from the pixel type where it decides (8- and 16-bit unsigned), else from a pass over
+   * the image (a signed or floating-point label image, often of small labels: 16-bit NIfTI segmentations). */
   template <typename TInputImage>
-  typename LabelImageType::Pointer
+  unsigned int
+  BytesPerVoxelLabel(const TInputImage & image) const
+  {
+    using PixelType = typename TInputImage::PixelType;
+    if (m_UseIsoValue || m_MergeLabels)
+    {
+      return 1;
+    }
+    LabelType lowest = delaunay_refinement::BackgroundLabel;
+    LabelType highest = delaunay_refinement::BackgroundLabel;
+    if (!m_SelectedLabels.empty())
+    {
+      lowest = std::min(lowest, m_SelectedLabels.front());
+      highest = std::max(highest, m_SelectedLabels.back());
+    }
+    else if constexpr (std::is_integral_v<PixelType> && std::is_unsigned_v<PixelType> && sizeof(PixelType) <= 2)
+    {
+      highest = static_cast<LabelType>(std::numeric_limits<PixelType>::max());
+    }
+    else
+    {
+      Lookup<PixelType> lookup(*this);
+      ForEachRow(image, image.GetBufferedRegion(), [&](const PixelType * row, const Index<3> &, SizeValueType length) {
+        for (SizeValueType i = 0; i < length; ++i)
+        {
+          const LabelType label = lookup(row[i]);
+          lowest = std::min(lowest, label);
+          highest = std::max(highest, label);
+        }
+      });
+    }
+    if (lowest >= 0 && highest <= std::numeric_limits<uint8_t>::max())
+    {
+      return 1;
+    }
+    return lowest >= 0 && highest <= std::numeric_limits<uint16_t>::max() ? 2 : 4;
+  }
+
+  /** A new image over `region`, in the geometry of `image`: each voxel the label of the voxel of `image` there,
+   * background outside `image`'s buffered region; stored as TVoxelLabel, which must hold every label
+   * (BytesPerVoxelLabel()). */
+  template <typename TVoxelLabel = LabelType, typename TInputImage>
+  typename Image<TVoxelLabel, 3>::Pointer
   SelectedLabelImage(const TInputImage & image, const typename LabelImageType::RegionType & region) const
   {
-    auto labels = LabelImageType::New();
+    static_assert(delaunay_refinement::IsVoxelLabelType<TVoxelLabel>,
+                  "labels are stored as Label, uint16_t or uint8_t");
+    using VoxelLabelImageType = Image<TVoxelLabel, 3>;
+    auto labels = VoxelLabelImageType::New();
     labels->SetRegions(region);
     labels->SetOrigin(image.GetOrigin());
     labels->SetSpacing(image.GetSpacing());
     labels->SetDirection(image.GetDirection());
     labels->Allocate();
-    delaunay_refinement::AdviseHugePages(labels->GetBufferPointer(), region.GetNumberOfPixels() * sizeof(LabelType));
+    delaunay_refinement::AdviseHugePages(labels->GetBufferPointer(), region.GetNumberOfPixels() * sizeof(TVoxelLabel));
     auto insideImage = region;
     // Crop() leaves a region that misses the image's as it was, and says so.
     const bool meetsTheImage = insideImage.Crop(image.GetBufferedRegion());
@@ -210,12 +258,12 @@ public:
       return labels;
     }
     Lookup<typename TInputImage::PixelType> lookup(*this);
-    LabelImageType &                        output = *labels;
+    VoxelLabelImageType &                   output = *labels;
     ForEachRow(image, insideImage, [&lookup, &output](const auto * row, const Index<3> & first, SizeValueType length) {
-      LabelType * const labelRow = output.GetBufferPointer() + output.ComputeOffset(first);
+      TVoxelLabel * const labelRow = output.GetBufferPointer() + output.ComputeOffset(first);
       for (SizeValueType i = 0; i < length; ++i)
       {
-        labelRow[i] = lookup(row[i]);
+        labelRow[i] = static_cast<TVoxelLabel>(lookup(row[i]));
       }
     });
     return labels;

@@ -102,6 +102,9 @@
 #                                 its point instead of the smaller ball radius it honours
 #   iso-values-not-carried        an iso-surface's voxels are regularised but their values are not carried to their new
 #                                 side, so the interpolated surface the mesh follows is the input's as it was
+#   labels-always-four-bytes      the label image takes four bytes a voxel whatever its labels (the memory of before)
+#   byte-holds-256                a label image whose largest label is 256 is stored in one byte a voxel (256 becomes
+#                                 background)
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -277,7 +280,7 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   openings-unchecked flat-cap-needs-three-facets cli-regularization-scale-ignored cli-relabelling-ignored
   cli-thick-parts-ignored cli-manifold-levels-ignored report-pinches-read-relabelled
   regularization-reach-tie-margin-dropped r3-tie-margin-dropped halving-needs-regularization
-  r3-finer-sample-not-noted iso-values-not-carried)
+  r3-finer-sample-not-noted iso-values-not-carried labels-always-four-bytes byte-holds-256)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -666,6 +669,19 @@ apply_mutation() {
 ' '  using ValueLimits = NumericTraits<ValueType>;
   return;
 '
+      ;;
+    labels-always-four-bytes)
+      mutate "$tree/include/itkImageLabelSelection.h" '    if (m_UseIsoValue || m_MergeLabels)
+    {
+      return 1;
+    }' '    if (m_UseIsoValue || m_MergeLabels || true)
+    {
+      return 4;
+    }'
+      ;;
+    byte-holds-256)
+      mutate "$tree/include/itkImageLabelSelection.h" 'highest <= std::numeric_limits<uint8_t>::max()' \
+        'highest <= std::numeric_limits<uint8_t>::max() + 1'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2

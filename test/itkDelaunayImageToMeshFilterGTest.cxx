@@ -2023,4 +2023,57 @@ TEST(Determinism, SameFilterTwiceAndTwoFilters)
   ExpectIdentical(first.mesh, other->mesh);
 }
 
+/** The label image is stored in one, two or four bytes a voxel, by the labels it must hold
+ * (ImageLabelSelection::BytesPerVoxelLabel): the k-means tissues as they are (one byte), moved to 1002-1006 in 16-bit
+ * pixels (two bytes) and to 100002-100006 in 32-bit pixels (four) give the same mesh with its labels moved alike, and
+ * the same object label image. */
+TEST(Determinism, TheLabelImagesStorageDoesNotChangeTheMesh)
+{
+  const Meshed<FilterType> & oneByte = MeshedKmeans();
+  EXPECT_EQ(oneByte.filter->GetBytesPerVoxelLabel(), 1u);
+  const LabelImageType * input = oneByte.filter->GetInput();
+  const auto             expectTheSameMeshMoved = [&](auto pixel, FilterType::LabelType offset) {
+    using PixelType = decltype(pixel);
+    using ImageType = itk::Image<PixelType, 3>;
+    const auto moveLabel = [offset](FilterType::LabelType label) {
+      return label == dr::BackgroundLabel ? label : label + offset;
+    };
+    auto moved = ImageType::New();
+    moved->CopyInformation(input);
+    moved->SetRegions(input->GetBufferedRegion());
+    moved->Allocate();
+    std::transform(input->GetBufferPointer(),
+                   input->GetBufferPointer() + input->GetBufferedRegion().GetNumberOfPixels(),
+                   moved->GetBufferPointer(),
+                   [&](uint8_t value) { return static_cast<PixelType>(moveLabel(value)); });
+    auto                               filter = FilterFor(moved.GetPointer(), KmeansDelta);
+    std::vector<FilterType::LabelType> tissues(KmeansTissues);
+    std::transform(tissues.begin(), tissues.end(), tissues.begin(), moveLabel);
+    filter->SetLabels(tissues);
+    const auto          meshed = RunFilter<itk::DelaunayImageToMeshFilter<ImageType, MeshType>>(filter);
+    dr::TetrahedralMesh expected = oneByte.mesh;
+    std::transform(expected.tetrahedronLabels.begin(),
+                   expected.tetrahedronLabels.end(),
+                   expected.tetrahedronLabels.begin(),
+                   moveLabel);
+    for (auto & pair : expected.boundaryTriangleLabels)
+    {
+      pair = { moveLabel(pair[0]), moveLabel(pair[1]) };
+    }
+    SCOPED_TRACE("labels moved by " + std::to_string(offset));
+    EXPECT_EQ(filter->GetBytesPerVoxelLabel(), sizeof(PixelType));
+    ExpectIdentical(expected, meshed->mesh);
+    const auto * wide = oneByte.filter->GetObjectLabelImage();
+    const auto * labels = meshed->filter->GetObjectLabelImage();
+    ASSERT_EQ(labels->GetBufferedRegion(), wide->GetBufferedRegion());
+    const auto count = wide->GetBufferedRegion().GetNumberOfPixels();
+    EXPECT_TRUE(std::equal(wide->GetBufferPointer(),
+                           wide->GetBufferPointer() + count,
+                           labels->GetBufferPointer(),
+                           [&](FilterType::LabelType a, FilterType::LabelType b) { return moveLabel(a) == b; }));
+  };
+  expectTheSameMeshMoved(uint16_t{}, 1000);
+  expectTheSameMeshMoved(int32_t{}, 100000);
+}
+
 } // namespace

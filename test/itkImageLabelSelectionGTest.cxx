@@ -32,6 +32,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace
@@ -183,4 +184,100 @@ TEST(ImageLabelSelection, AValueTakesTheNearestLabel)
   EXPECT_EQ(selection.LabelOf(2.7), 3);
   EXPECT_EQ(selection.LabelOf(3.3), 3);
   EXPECT_EQ(selection.LabelOf(2.3), delaunay_refinement::BackgroundLabel);
+}
+
+namespace
+{
+
+/** The bytes BytesPerVoxelLabel() gives hold every label SelectedLabelImage() makes, and SelectedLabelImage() in
+ * that type holds the same labels as in LabelType. */
+template <typename TPixel>
+unsigned int
+BytesPerVoxelLabelThatHoldsEveryLabel(const typename itk::Image<TPixel, 3>::Pointer & image,
+                                      const itk::ImageLabelMapping & mapping, const std::string & what)
+{
+  const itk::ImageLabelSelection selection(mapping);
+  const auto                     region = image->GetBufferedRegion();
+  const auto                     labels = selection.SelectedLabelImage(*image, region);
+  const unsigned int             bytes = selection.BytesPerVoxelLabel(*image);
+  const auto                     expectTheSameLabels = [&](const auto & narrow) {
+    itk::ImageRegionConstIterator<itk::ImageLabelSelection::LabelImageType> label(labels, region);
+    for (itk::ImageRegionConstIterator<std::remove_reference_t<decltype(*narrow)>> it(narrow, region); !it.IsAtEnd();
+         ++it, ++label)
+    {
+      ASSERT_EQ(static_cast<delaunay_refinement::Label>(it.Get()), label.Get()) << what;
+    }
+  };
+  switch (bytes)
+  {
+    case 1:
+      expectTheSameLabels(selection.SelectedLabelImage<uint8_t>(*image, region));
+      break;
+    case 2:
+      expectTheSameLabels(selection.SelectedLabelImage<uint16_t>(*image, region));
+      break;
+    default:
+      EXPECT_EQ(bytes, 4u) << what;
+  }
+  return bytes;
+}
+
+template <typename TPixel>
+typename itk::Image<TPixel, 3>::Pointer
+ImageWithOneVoxelOf(TPixel value)
+{
+  auto image = ImageOfManyValues<TPixel>();
+  image->SetPixel(image->GetBufferedRegion().GetIndex(), value);
+  return image;
+}
+
+} // namespace
+
+/** The filter stores the label image in the fewest bytes every selected label fits in: one for an iso-value, merged
+ * labels or labels within 0-255 (most segmentations), two within 0-65535, four otherwise. */
+TEST(ImageLabelSelection, BytesPerVoxelLabelIsTheFewestThatHoldEveryLabel)
+{
+  itk::ImageLabelMapping everyLabel;
+  itk::ImageLabelMapping someLabels;
+  someLabels.selectedLabels = { 1, 74, 3 };
+  itk::ImageLabelMapping withNegative = someLabels;
+  withNegative.selectedLabels.push_back(-54);
+  itk::ImageLabelMapping merged = withNegative;
+  merged.mergeLabels = true;
+  itk::ImageLabelMapping iso;
+  iso.useIsoValue = true;
+  iso.isoValue = 0.5;
+  // 8- and 16-bit unsigned pixels: from the type.
+  EXPECT_EQ(BytesPerVoxelLabelThatHoldsEveryLabel<uint8_t>(ImageOfManyValues<uint8_t>(), everyLabel, "uint8"), 1u);
+  EXPECT_EQ(BytesPerVoxelLabelThatHoldsEveryLabel<uint16_t>(ImageOfManyValues<uint16_t>(), everyLabel, "uint16"), 2u);
+  // Selected labels: from the selection, whatever the type.
+  EXPECT_EQ(BytesPerVoxelLabelThatHoldsEveryLabel<uint16_t>(ImageOfManyValues<uint16_t>(), someLabels, "uint16 some"),
+            1u);
+  EXPECT_EQ(BytesPerVoxelLabelThatHoldsEveryLabel<short>(ImageOfManyValues<short>(), someLabels, "short some"), 1u);
+  EXPECT_EQ(BytesPerVoxelLabelThatHoldsEveryLabel<short>(ImageOfManyValues<short>(), withNegative, "short negative"),
+            4u);
+  // Merged labels and iso-values are 0 and 1.
+  EXPECT_EQ(BytesPerVoxelLabelThatHoldsEveryLabel<short>(ImageOfManyValues<short>(), merged, "short merged"), 1u);
+  EXPECT_EQ(BytesPerVoxelLabelThatHoldsEveryLabel<float>(ImageOfManyValues<float>(), iso, "float iso"), 1u);
+  // Other types: from the labels the image holds.
+  EXPECT_EQ(BytesPerVoxelLabelThatHoldsEveryLabel<short>(ImageOfManyValues<short>(), everyLabel, "short, negative"),
+            4u);
+  EXPECT_EQ(BytesPerVoxelLabelThatHoldsEveryLabel<float>(ImageOfManyValues<float>(), everyLabel, "float, negative"),
+            4u);
+  auto nonNegative = ImageOfManyValues<int>();
+  for (itk::ImageRegionIterator<itk::Image<int, 3>> it(nonNegative, nonNegative->GetBufferedRegion()); !it.IsAtEnd();
+       ++it)
+  {
+    it.Set(std::abs(it.Get()));
+  }
+  EXPECT_EQ(BytesPerVoxelLabelThatHoldsEveryLabel<int>(nonNegative, everyLabel, "int within 0-255"), 1u);
+  nonNegative->SetPixel(nonNegative->GetBufferedRegion().GetIndex(), 256);
+  EXPECT_EQ(BytesPerVoxelLabelThatHoldsEveryLabel<int>(nonNegative, everyLabel, "int with 256"), 2u);
+  nonNegative->SetPixel(nonNegative->GetBufferedRegion().GetIndex(), 65535);
+  EXPECT_EQ(BytesPerVoxelLabelThatHoldsEveryLabel<int>(nonNegative, everyLabel, "int with 65535"), 2u);
+  nonNegative->SetPixel(nonNegative->GetBufferedRegion().GetIndex(), 65536);
+  EXPECT_EQ(BytesPerVoxelLabelThatHoldsEveryLabel<int>(nonNegative, everyLabel, "int with 65536"), 4u);
+  EXPECT_EQ(
+    BytesPerVoxelLabelThatHoldsEveryLabel<double>(ImageWithOneVoxelOf<double>(300.2), someLabels, "double, selected"),
+    1u);
 }
