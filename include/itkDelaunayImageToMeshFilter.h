@@ -301,28 +301,23 @@ public:
   /** The voxel labels the last update meshed (after label selection, merging or the iso-value, with the joining
    * voxels), cropped to the object's voxels and one voxel of background around them (every voxel outside is
    * background): the reference for fidelity measurements. The filter keeps them as it meshed them, in one byte a
-   * voxel where every label fits (ImageLabelSelection::BytesPerVoxelLabel), and makes this image of LabelType at the
-   * first call after an update: a caller that never asks does not pay for four bytes a voxel. Not to be called
-   * from several threads at once. */
+   * voxel where every label fits (GetBytesPerVoxelLabel()), and makes this image of LabelType at the first call
+   * after an update: a caller that never asks does not pay four bytes a voxel for it. Not to be called from several
+   * threads at once. */
   const ObjectLabelImageType *
   GetObjectLabelImage() const
   {
-    if (m_MakeObjectLabelImage)
-    {
-      m_ObjectLabelImage = m_MakeObjectLabelImage();
-      m_MakeObjectLabelImage = nullptr;
-    }
-    return m_ObjectLabelImage;
+    return MadeOnce(m_ObjectLabelImage, m_MakeObjectLabelImage);
   }
 
   /** The voxel labels the last update selected from the input (label selection, merging or the iso-value),
    * cropped like GetObjectLabelImage(), before the regularisation, the joining of diagonal voxels and the local
    * regularisation of the topology rounds: the segmentation the mesh stands for, the reference for fidelity and for
-   * tissues the regularisation removed. */
+   * tissues the regularisation removed. Kept and made like GetObjectLabelImage(), at the first call. */
   const ObjectLabelImageType *
   GetSelectedLabelImage() const
   {
-    return m_SelectedLabelImage;
+    return MadeOnce(m_SelectedLabelImage, m_MakeSelectedLabelImage);
   }
 
   /** What the regularisation (RegularizationScale) did to each label during the last update. */
@@ -370,6 +365,19 @@ private:
   /** The share of the progress range the oracle's set-up reports (its label image, the regularisation, the
    * nearest-interface map); the refinement reports the rest. */
   static constexpr float SetUpProgressShare = 0.1f;
+  /** Makes a label image the filter keeps in another form (GetObjectLabelImage(), GetSelectedLabelImage()). */
+  using MakeLabelImage = std::function<typename ObjectLabelImageType::ConstPointer()>;
+  /** `image`, made by `make` first when `make` is set (which it then clears). */
+  static const ObjectLabelImageType *
+  MadeOnce(typename ObjectLabelImageType::ConstPointer & image, MakeLabelImage & make)
+  {
+    if (make)
+    {
+      image = make();
+      make = nullptr;
+    }
+    return image;
+  }
   /** The labels as GetObjectLabelImage() gives them: the image itself when stored as LabelType, else a copy. */
   template <typename TVoxelLabel>
   static typename ObjectLabelImageType::ConstPointer
@@ -406,10 +414,12 @@ private:
   delaunay_refinement::TetrahedralMesh           m_RefinedMesh;
   delaunay_refinement::RefinementStatistics      m_RefinementStatistics;
   delaunay_refinement::LabelRegularizationReport m_RegularizationReport;
-  /** GetObjectLabelImage(), once made; until then m_MakeObjectLabelImage makes it from the labels as meshed. */
-  mutable typename ObjectLabelImageType::ConstPointer                  m_ObjectLabelImage;
-  mutable std::function<typename ObjectLabelImageType::ConstPointer()> m_MakeObjectLabelImage;
-  typename ObjectLabelImageType::ConstPointer                          m_SelectedLabelImage;
+  /** GetObjectLabelImage() and GetSelectedLabelImage(), once made; until then the functions make them from the
+   * labels as the filter keeps them. */
+  mutable typename ObjectLabelImageType::ConstPointer m_ObjectLabelImage;
+  mutable MakeLabelImage                              m_MakeObjectLabelImage;
+  mutable typename ObjectLabelImageType::ConstPointer m_SelectedLabelImage;
+  mutable MakeLabelImage                              m_MakeSelectedLabelImage;
 };
 
 } // namespace itk

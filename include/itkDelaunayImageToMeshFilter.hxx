@@ -198,6 +198,7 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::RefineWithVoxelLabels(
   m_ObjectLabelImage = nullptr;
   m_MakeObjectLabelImage = [voxelLabels] { return AsLabelImage(voxelLabels.GetPointer()); };
   m_SelectedLabelImage = nullptr;
+  m_MakeSelectedLabelImage = nullptr;
   m_RegularizationReport = oracle.GetRegularizationReport();
   m_NumberOfJoiningVoxels = oracle.GetNumberOfJoiningVoxels();
   if (oracle.GetNumberOfObjectVoxels() == 0 && m_RegularizationReport.changedVoxels > 0)
@@ -247,11 +248,19 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::RefineWithVoxelLabels(
   const bool          labelsDifferFromTheSelection = oracle.LabelsDifferFromTheSelection();
   // The selection is made again from the input, once the oracle's per-voxel buffers are freed, rather than copied
   // before the labels change and kept through the refinement: that copy was as large as the label image and made
-  // the peak memory (13 MB of 186 on the 1 mm brain mask).
+  // the peak memory (13 MB of 186 on the 1 mm brain mask). It is stored like the oracle's labels, and made LabelType
+  // when asked for (GetSelectedLabelImage()).
   oraclePointer.reset();
-  m_SelectedLabelImage = labelsDifferFromTheSelection
-                           ? ImageLabelSelection(mapping).SelectedLabelImage(*image, voxelLabels->GetBufferedRegion())
-                           : GetObjectLabelImage();
+  if (labelsDifferFromTheSelection)
+  {
+    const typename Image<TVoxelLabel, 3>::ConstPointer selected =
+      ImageLabelSelection(mapping).template SelectedLabelImage<TVoxelLabel>(*image, voxelLabels->GetBufferedRegion());
+    m_MakeSelectedLabelImage = [selected] { return AsLabelImage(selected.GetPointer()); };
+  }
+  else
+  {
+    m_MakeSelectedLabelImage = [this] { return typename ObjectLabelImageType::ConstPointer(GetObjectLabelImage()); };
+  }
   return numberOfObjectVoxels;
 }
 

@@ -2026,7 +2026,7 @@ TEST(Determinism, SameFilterTwiceAndTwoFilters)
 /** The label image is stored in one, two or four bytes a voxel, by the labels it must hold
  * (ImageLabelSelection::BytesPerVoxelLabel): the k-means tissues as they are (one byte), moved to 1002-1006 in 16-bit
  * pixels (two bytes) and to 100002-100006 in 32-bit pixels (four) give the same mesh with its labels moved alike, and
- * the same object label image. */
+ * the same object and selected label images. */
 TEST(Determinism, TheLabelImagesStorageDoesNotChangeTheMesh)
 {
   const Meshed<FilterType> & oneByte = MeshedKmeans();
@@ -2063,14 +2063,18 @@ TEST(Determinism, TheLabelImagesStorageDoesNotChangeTheMesh)
     SCOPED_TRACE("labels moved by " + std::to_string(offset));
     EXPECT_EQ(filter->GetBytesPerVoxelLabel(), sizeof(PixelType));
     ExpectIdentical(expected, meshed->mesh);
-    const auto * wide = oneByte.filter->GetObjectLabelImage();
-    const auto * labels = meshed->filter->GetObjectLabelImage();
-    ASSERT_EQ(labels->GetBufferedRegion(), wide->GetBufferedRegion());
-    const auto count = wide->GetBufferedRegion().GetNumberOfPixels();
-    EXPECT_TRUE(std::equal(wide->GetBufferPointer(),
-                           wide->GetBufferPointer() + count,
-                           labels->GetBufferPointer(),
-                           [&](FilterType::LabelType a, FilterType::LabelType b) { return moveLabel(a) == b; }));
+    const auto expectTheSameLabelsMoved = [&](const auto * expectedLabels, const auto * labels, const char * what) {
+      ASSERT_EQ(labels->GetBufferedRegion(), expectedLabels->GetBufferedRegion()) << what;
+      const auto count = labels->GetBufferedRegion().GetNumberOfPixels();
+      EXPECT_TRUE(std::equal(expectedLabels->GetBufferPointer(),
+                             expectedLabels->GetBufferPointer() + count,
+                             labels->GetBufferPointer(),
+                             [&](FilterType::LabelType a, FilterType::LabelType b) { return moveLabel(a) == b; }))
+        << what;
+    };
+    expectTheSameLabelsMoved(oneByte.filter->GetObjectLabelImage(), meshed->filter->GetObjectLabelImage(), "object");
+    expectTheSameLabelsMoved(
+      oneByte.filter->GetSelectedLabelImage(), meshed->filter->GetSelectedLabelImage(), "selected");
   };
   expectTheSameMeshMoved(uint16_t{}, 1000);
   expectTheSameMeshMoved(int32_t{}, 100000);
