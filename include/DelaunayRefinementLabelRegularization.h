@@ -131,28 +131,28 @@ std::vector<LabelPart>
 FindUnmarkedParts(const TVoxelLabel * labels, const std::array<std::size_t, 3> & size, const Vector3 & spacing,
                   const std::vector<std::size_t> & marked, double radiusLimit, unsigned int numberOfThreads = 1);
 
-// Compiled in the library for each IsVoxelLabelType.
-#define DelaunayRefinement_DeclareLabelRegularization(TVoxelLabel)                                                     \
-  extern template DelaunayImageToMesh_EXPORT LabelRegularizationReport RegularizeLabels<TVoxelLabel>(                  \
+// Compiled in the library for each IsVoxelLabelType: declared here (EXTERN = extern), defined in the library's
+// source (EXTERN empty).
+#define DelaunayRefinement_InstantiateLabelRegularization(EXTERN, TVoxelLabel)                                         \
+  EXTERN template DelaunayImageToMesh_EXPORT LabelRegularizationReport RegularizeLabels<TVoxelLabel>(                  \
     TVoxelLabel *,                                                                                                     \
     const std::array<std::size_t, 3> &,                                                                                \
     const Vector3 &,                                                                                                   \
     double,                                                                                                            \
     const std::function<bool(double)> &,                                                                               \
     unsigned int);                                                                                                     \
-  extern template DelaunayImageToMesh_EXPORT LabelParts::LabelParts(                                                   \
+  EXTERN template DelaunayImageToMesh_EXPORT LabelParts::LabelParts(                                                   \
     const TVoxelLabel *, const std::array<std::size_t, 3> &, const Vector3 &, unsigned int);                           \
-  extern template DelaunayImageToMesh_EXPORT std::vector<LabelPart> FindUnmarkedParts<TVoxelLabel>(                    \
+  EXTERN template DelaunayImageToMesh_EXPORT std::vector<LabelPart> FindUnmarkedParts<TVoxelLabel>(                    \
     const TVoxelLabel *,                                                                                               \
     const std::array<std::size_t, 3> &,                                                                                \
     const Vector3 &,                                                                                                   \
     const std::vector<std::size_t> &,                                                                                  \
     double,                                                                                                            \
     unsigned int)
-DelaunayRefinement_DeclareLabelRegularization(Label);
-DelaunayRefinement_DeclareLabelRegularization(uint16_t);
-DelaunayRefinement_DeclareLabelRegularization(uint8_t);
-#undef DelaunayRefinement_DeclareLabelRegularization
+DelaunayRefinement_InstantiateLabelRegularization(extern, Label);
+DelaunayRefinement_InstantiateLabelRegularization(extern, uint16_t);
+DelaunayRefinement_InstantiateLabelRegularization(extern, uint8_t);
 
 } // namespace delaunay_refinement
 

@@ -65,16 +65,16 @@ std::size_t
 RemoveVoxelPinchesAround(TVoxelLabel * labels, const std::array<std::size_t, 3> & size,
                          const std::vector<std::size_t> & changedVoxels, std::vector<VoxelChange> * changes = nullptr);
 
-// Compiled in the library for each IsVoxelLabelType.
-#define DelaunayRefinement_DeclareVoxelPinches(TVoxelLabel)                                                            \
-  extern template DelaunayImageToMesh_EXPORT std::size_t RemoveVoxelPinches<TVoxelLabel>(                              \
+// Compiled in the library for each IsVoxelLabelType: declared here (EXTERN = extern), defined in the library's
+// source (EXTERN empty).
+#define DelaunayRefinement_InstantiateVoxelPinches(EXTERN, TVoxelLabel)                                                \
+  EXTERN template DelaunayImageToMesh_EXPORT std::size_t RemoveVoxelPinches<TVoxelLabel>(                              \
     TVoxelLabel *, const std::array<std::size_t, 3> &, std::vector<VoxelChange> *, unsigned int);                      \
-  extern template DelaunayImageToMesh_EXPORT std::size_t RemoveVoxelPinchesAround<TVoxelLabel>(                        \
+  EXTERN template DelaunayImageToMesh_EXPORT std::size_t RemoveVoxelPinchesAround<TVoxelLabel>(                        \
     TVoxelLabel *, const std::array<std::size_t, 3> &, const std::vector<std::size_t> &, std::vector<VoxelChange> *)
-DelaunayRefinement_DeclareVoxelPinches(Label);
-DelaunayRefinement_DeclareVoxelPinches(uint16_t);
-DelaunayRefinement_DeclareVoxelPinches(uint8_t);
-#undef DelaunayRefinement_DeclareVoxelPinches
+DelaunayRefinement_InstantiateVoxelPinches(extern, Label);
+DelaunayRefinement_InstantiateVoxelPinches(extern, uint16_t);
+DelaunayRefinement_InstantiateVoxelPinches(extern, uint8_t);
 
 } // namespace delaunay_refinement
 

@@ -2162,26 +2162,8 @@ RegularizeLabels(TVoxelLabel * labels, const std::array<std::size_t, 3> & size, 
   return LabelRegularizer<TVoxelLabel>(labels, size, spacing, radius, keepGoing, numberOfThreads).Run();
 }
 
-#define DelaunayRefinement_DefineLabelRegularization(TVoxelLabel)                                                      \
-  template DelaunayImageToMesh_EXPORT LabelRegularizationReport RegularizeLabels<TVoxelLabel>(                         \
-    TVoxelLabel *,                                                                                                     \
-    const std::array<std::size_t, 3> &,                                                                                \
-    const Vector3 &,                                                                                                   \
-    double,                                                                                                            \
-    const std::function<bool(double)> &,                                                                               \
-    unsigned int);                                                                                                     \
-  template DelaunayImageToMesh_EXPORT LabelParts::LabelParts(                                                          \
-    const TVoxelLabel *, const std::array<std::size_t, 3> &, const Vector3 &, unsigned int);                           \
-  template DelaunayImageToMesh_EXPORT std::vector<LabelPart> FindUnmarkedParts<TVoxelLabel>(                           \
-    const TVoxelLabel *,                                                                                               \
-    const std::array<std::size_t, 3> &,                                                                                \
-    const Vector3 &,                                                                                                   \
-    const std::vector<std::size_t> &,                                                                                  \
-    double,                                                                                                            \
-    unsigned int)
-DelaunayRefinement_DefineLabelRegularization(Label);
-DelaunayRefinement_DefineLabelRegularization(uint16_t);
-DelaunayRefinement_DefineLabelRegularization(uint8_t);
-#undef DelaunayRefinement_DefineLabelRegularization
+DelaunayRefinement_InstantiateLabelRegularization(, Label);
+DelaunayRefinement_InstantiateLabelRegularization(, uint16_t);
+DelaunayRefinement_InstantiateLabelRegularization(, uint8_t);
 
 } // namespace delaunay_refinement

@@ -608,14 +608,8 @@ RemoveVoxelPinchesAround(TVoxelLabel * labels, const std::array<std::size_t, 3> 
   return remover.ReportChanges(changes);
 }
 
-#define DelaunayRefinement_DefineVoxelPinches(TVoxelLabel)                                                             \
-  template DelaunayImageToMesh_EXPORT std::size_t RemoveVoxelPinches<TVoxelLabel>(                                     \
-    TVoxelLabel *, const std::array<std::size_t, 3> &, std::vector<VoxelChange> *, unsigned int);                      \
-  template DelaunayImageToMesh_EXPORT std::size_t RemoveVoxelPinchesAround<TVoxelLabel>(                               \
-    TVoxelLabel *, const std::array<std::size_t, 3> &, const std::vector<std::size_t> &, std::vector<VoxelChange> *)
-DelaunayRefinement_DefineVoxelPinches(Label);
-DelaunayRefinement_DefineVoxelPinches(uint16_t);
-DelaunayRefinement_DefineVoxelPinches(uint8_t);
-#undef DelaunayRefinement_DefineVoxelPinches
+DelaunayRefinement_InstantiateVoxelPinches(, Label);
+DelaunayRefinement_InstantiateVoxelPinches(, uint16_t);
+DelaunayRefinement_InstantiateVoxelPinches(, uint8_t);
 
 } // namespace delaunay_refinement
