@@ -57,7 +57,7 @@ namespace itk
  * Not an itk::Object: it is the adaptor between an image and the ITK-free refinement core.
  *
  * TVoxelLabel is how the label image stores a label (a delaunay_refinement::IsVoxelLabelType): the filter chooses
- * the narrowest type every selected label fits in (ImageLabelSelection::NarrowestVoxelLabelType), so that the label
+ * the narrowest type every selected label fits in (ImageLabelSelection::BytesPerVoxelLabel), so that the label
  * image of most segmentations takes one byte a voxel instead of four. The meshes are the same whichever it is.
  *
  * \ingroup DelaunayImageToMesh

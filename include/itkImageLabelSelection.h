@@ -188,8 +188,8 @@ public:
   /** The bytes a voxel needs to store every label this selection gives the voxels of `image` (1, 2 or 4: uint8_t,
    * uint16_t or LabelType, SelectedLabelImage()'s TVoxelLabel): one for an iso-value, merged labels, or labels within
    * 0-255; two for labels within 0-65535; four for the rest (negative labels, larger ones). From the selected labels
-   * when there are some, else from the pixel type where it decides (8- and 16-bit unsigned), else from a pass over
-   * the image (a signed or floating-point label image, often of small labels: 16-bit NIfTI segmentations). */
+   * when there are some, else from the pixel type where it decides (8-bit unsigned), else from a pass over the image
+   * (16-bit and float segmentations, as NIfTI and NRRD files often store them, mostly hold labels below 256). */
   template <typename TInputImage>
   unsigned int
   BytesPerVoxelLabel(const TInputImage & image) const
@@ -206,7 +206,7 @@ public:
       lowest = std::min(lowest, m_SelectedLabels.front());
       highest = std::max(highest, m_SelectedLabels.back());
     }
-    else if constexpr (std::is_integral_v<PixelType> && std::is_unsigned_v<PixelType> && sizeof(PixelType) <= 2)
+    else if constexpr (std::is_integral_v<PixelType> && std::is_unsigned_v<PixelType> && sizeof(PixelType) == 1)
     {
       highest = static_cast<LabelType>(std::numeric_limits<PixelType>::max());
     }

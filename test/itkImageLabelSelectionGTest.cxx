@@ -247,9 +247,8 @@ TEST(ImageLabelSelection, BytesPerVoxelLabelIsTheFewestThatHoldEveryLabel)
   itk::ImageLabelMapping iso;
   iso.useIsoValue = true;
   iso.isoValue = 0.5;
-  // 8- and 16-bit unsigned pixels: from the type.
+  // 8-bit unsigned pixels: from the type.
   EXPECT_EQ(BytesPerVoxelLabelThatHoldsEveryLabel<uint8_t>(ImageOfManyValues<uint8_t>(), everyLabel, "uint8"), 1u);
-  EXPECT_EQ(BytesPerVoxelLabelThatHoldsEveryLabel<uint16_t>(ImageOfManyValues<uint16_t>(), everyLabel, "uint16"), 2u);
   // Selected labels: from the selection, whatever the type.
   EXPECT_EQ(BytesPerVoxelLabelThatHoldsEveryLabel<uint16_t>(ImageOfManyValues<uint16_t>(), someLabels, "uint16 some"),
             1u);
@@ -259,7 +258,11 @@ TEST(ImageLabelSelection, BytesPerVoxelLabelIsTheFewestThatHoldEveryLabel)
   // Merged labels and iso-values are 0 and 1.
   EXPECT_EQ(BytesPerVoxelLabelThatHoldsEveryLabel<short>(ImageOfManyValues<short>(), merged, "short merged"), 1u);
   EXPECT_EQ(BytesPerVoxelLabelThatHoldsEveryLabel<float>(ImageOfManyValues<float>(), iso, "float iso"), 1u);
-  // Other types: from the labels the image holds.
+  // Other types: from the labels the image holds. 16-bit segmentations mostly hold labels below 256.
+  auto wide = ImageOfManyValues<uint16_t>();
+  EXPECT_EQ(BytesPerVoxelLabelThatHoldsEveryLabel<uint16_t>(wide, everyLabel, "uint16 within 0-255"), 1u);
+  wide->SetPixel(wide->GetBufferedRegion().GetIndex(), 300);
+  EXPECT_EQ(BytesPerVoxelLabelThatHoldsEveryLabel<uint16_t>(wide, everyLabel, "uint16 with 300"), 2u);
   EXPECT_EQ(BytesPerVoxelLabelThatHoldsEveryLabel<short>(ImageOfManyValues<short>(), everyLabel, "short, negative"),
             4u);
   EXPECT_EQ(BytesPerVoxelLabelThatHoldsEveryLabel<float>(ImageOfManyValues<float>(), everyLabel, "float, negative"),
