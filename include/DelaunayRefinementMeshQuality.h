@@ -99,6 +99,12 @@ ComputeBoundaryTopology(const TetrahedralMesh & mesh);
 DelaunayImageToMesh_EXPORT std::vector<std::array<uint32_t, 3>>
                            LabelBoundaryTriangles(const TetrahedralMesh & mesh, Label label);
 
+/** LabelBoundaryTriangles() of every label on a side of a boundary triangle, in one pass over the triangles: the
+ * quality report's per-label topology scanned every triangle once per label, a cost that grew with the number of
+ * labels times the mesh (an atlas of hundreds of labels). */
+DelaunayImageToMesh_EXPORT std::map<Label, std::vector<std::array<uint32_t, 3>>>
+                           BoundaryTrianglesByLabel(const TetrahedralMesh & mesh);
+
 /** Topology of the boundary of the tetrahedra labelled `label`: every boundary triangle with `label` on
  * one of its sides. */
 DelaunayImageToMesh_EXPORT SurfaceTopology

@@ -99,24 +99,21 @@ VoxelVolume(const LabelVolume & volume)
 std::map<Label, LabelQuality>
 MeasureLabels(const TetrahedralMesh & mesh, const LabelVolume & segmentation)
 {
-  std::map<Label, LabelQuality>      labels;
-  std::map<Label, std::vector<bool>> usesPoint;
+  std::map<Label, LabelQuality> labels;
+  // Each label's corners, repeats included: a flag per point and label cost the number of labels times the points.
+  std::map<Label, std::vector<uint32_t>> cornersOf;
   for (std::size_t i = 0; i < mesh.tetrahedra.size(); ++i)
   {
     LabelQuality & quality = labels[mesh.tetrahedronLabels[i]];
     ++quality.tetrahedra;
     quality.meshVolume += TetrahedronVolume(mesh, mesh.tetrahedra[i]);
-    std::vector<bool> & used = usesPoint[mesh.tetrahedronLabels[i]];
-    used.resize(mesh.points.size(), false);
-    for (const uint32_t point : mesh.tetrahedra[i])
-    {
-      used[point] = true;
-    }
+    std::vector<uint32_t> & corners = cornersOf[mesh.tetrahedronLabels[i]];
+    corners.insert(corners.end(), mesh.tetrahedra[i].begin(), mesh.tetrahedra[i].end());
   }
-  for (const auto & labelAndUse : usesPoint)
+  for (auto & [label, corners] : cornersOf)
   {
-    labels[labelAndUse.first].vertices =
-      static_cast<std::size_t>(std::count(labelAndUse.second.begin(), labelAndUse.second.end(), true));
+    std::sort(corners.begin(), corners.end());
+    labels[label].vertices = static_cast<std::size_t>(std::unique(corners.begin(), corners.end()) - corners.begin());
   }
 
   const double        voxelVolume = VoxelVolume(segmentation);
@@ -129,15 +126,23 @@ MeasureLabels(const TetrahedralMesh & mesh, const LabelVolume & segmentation)
       labels[label].segmentedVolume += voxelVolume;
     }
   }
+  const std::map<Label, std::vector<std::array<uint32_t, 3>>> boundaryTriangles = BoundaryTrianglesByLabel(mesh);
+  std::vector<Label>                                          lost;
   for (auto & labelAndQuality : labels)
   {
     LabelQuality & quality = labelAndQuality.second;
     quality.label = labelAndQuality.first;
-    quality.boundary = ComputeLabelBoundaryTopology(mesh, quality.label);
+    const auto triangles = boundaryTriangles.find(quality.label);
+    quality.boundary = ComputeSurfaceTopology(
+      mesh.points, triangles == boundaryTriangles.end() ? std::vector<std::array<uint32_t, 3>>{} : triangles->second);
     if (quality.IsLost())
     {
-      quality.lostComponents = CountVoxelComponents(segmentation, quality.label);
+      lost.push_back(quality.label);
     }
+  }
+  for (const auto & [label, components] : CountVoxelComponents(segmentation, lost))
+  {
+    labels[label].lostComponents = components;
   }
   return labels;
 }

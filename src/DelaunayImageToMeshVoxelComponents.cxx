@@ -23,9 +23,18 @@
 namespace delaunay_refinement
 {
 
-std::size_t
-CountVoxelComponents(const LabelVolume & volume, Label label)
+std::map<Label, std::size_t>
+CountVoxelComponents(const LabelVolume & volume, const std::vector<Label> & labels)
 {
+  std::map<Label, std::size_t> counts;
+  for (const Label label : labels)
+  {
+    counts[label] = 0;
+  }
+  if (counts.empty())
+  {
+    return counts;
+  }
   // The volume as the mesh sees it: one layer of background around it, so that the background's parts that reach
   // the border are one component.
   const std::array<std::size_t, 3> padded{ { volume.size[0] + 2, volume.size[1] + 2, volume.size[2] + 2 } };
@@ -39,7 +48,13 @@ CountVoxelComponents(const LabelVolume & volume, Label label)
   };
   std::vector<bool>                       visited(padded[0] * padded[1] * padded[2], false);
   std::vector<std::array<std::size_t, 3>> front;
-  std::size_t                             components = 0;
+  // Runs of one label are long along x: whether a label is counted is looked up once per run.
+  Label         runLabel = labelAt(0, 0, 0);
+  std::size_t * runCount = nullptr;
+  if (const auto found = counts.find(runLabel); found != counts.end())
+  {
+    runCount = &found->second;
+  }
   for (std::size_t k = 0; k < padded[2]; ++k)
   {
     for (std::size_t j = 0; j < padded[1]; ++j)
@@ -47,12 +62,23 @@ CountVoxelComponents(const LabelVolume & volume, Label label)
       for (std::size_t i = 0; i < padded[0]; ++i)
       {
         const std::size_t offset = i * strides[0] + j * strides[1] + k * strides[2];
-        if (visited[offset] || labelAt(i, j, k) != label)
+        if (visited[offset])
+        {
+          continue;
+        }
+        const Label label = labelAt(i, j, k);
+        if (label != runLabel)
+        {
+          runLabel = label;
+          const auto found = counts.find(label);
+          runCount = found == counts.end() ? nullptr : &found->second;
+        }
+        if (runCount == nullptr)
         {
           continue;
         }
         // A new component: flood it through face neighbours.
-        ++components;
+        ++*runCount;
         visited[offset] = true;
         front.assign(1, { { i, j, k } });
         while (!front.empty())
@@ -82,7 +108,13 @@ CountVoxelComponents(const LabelVolume & volume, Label label)
       }
     }
   }
-  return components;
+  return counts;
+}
+
+std::size_t
+CountVoxelComponents(const LabelVolume & volume, Label label)
+{
+  return CountVoxelComponents(volume, std::vector<Label>{ label }).at(label);
 }
 
 } // namespace delaunay_refinement

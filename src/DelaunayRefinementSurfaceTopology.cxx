@@ -379,6 +379,22 @@ LabelBoundaryTriangles(const TetrahedralMesh & mesh, Label label)
   return triangles;
 }
 
+std::map<Label, std::vector<std::array<uint32_t, 3>>>
+BoundaryTrianglesByLabel(const TetrahedralMesh & mesh)
+{
+  std::map<Label, std::vector<Triangle>> triangles;
+  for (std::size_t i = 0; i < mesh.boundaryTriangles.size() && i < mesh.boundaryTriangleLabels.size(); ++i)
+  {
+    const std::array<Label, 2> & sides = mesh.boundaryTriangleLabels[i];
+    triangles[sides[0]].push_back(mesh.boundaryTriangles[i]);
+    if (sides[1] != sides[0])
+    {
+      triangles[sides[1]].push_back(mesh.boundaryTriangles[i]);
+    }
+  }
+  return triangles;
+}
+
 SurfaceTopology
 ComputeLabelBoundaryTopology(const TetrahedralMesh & mesh, Label label)
 {

@@ -18,7 +18,8 @@
 
 // CountVoxelComponents, which the quality report uses to say how many pieces a lost tissue was made of: known
 // counts on a hand-made volume, and VTK's image connectivity filter (face-connected, on the volume padded with
-// background, as the report defines it) as an independent reference on random speckle.
+// background, as the report defines it) as an independent reference on random speckle, for one label at a time and
+// for several in one pass.
 
 #include "DelaunayImageToMeshVoxelComponents.h"
 
@@ -29,6 +30,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <map>
 
 namespace delaunay_refinement
 {
@@ -123,10 +125,15 @@ TEST(VoxelComponents, RandomSpeckleCountsAsVtksConnectivityFilter)
     {
       label = static_cast<Label>(next() % 4);
     }
+    // Every label in one pass, as the report counts its lost tissues; a label absent from the volume counts 0.
+    const std::map<Label, std::size_t> counts = CountVoxelComponents(volume, { 3, 0, 2, 1, 7 });
+    ASSERT_EQ(counts.size(), 5u);
+    EXPECT_EQ(counts.at(7), 0u);
     for (Label label = 0; label < 4; ++label)
     {
       const std::size_t count = CountVoxelComponents(volume, label);
       EXPECT_EQ(count, VtkComponents(volume, label)) << "volume " << volumeNumber << ", label " << label;
+      EXPECT_EQ(counts.at(label), count) << "volume " << volumeNumber << ", label " << label << " counted with others";
       components += count;
       mostInOneLabel = std::max(mostInOneLabel, count);
     }

@@ -412,6 +412,17 @@ TEST(SurfaceTopology, BoundaryAndLabelBoundary)
   EXPECT_TRUE(second.IsClosedManifold());
   EXPECT_EQ(ComputeLabelBoundaryTopology(mesh, BackgroundLabel).numberOfTriangles, 4u);
   EXPECT_EQ(ComputeLabelBoundaryTopology(mesh, 3).numberOfTriangles, 0u);
+
+  // Every label's triangles in one pass, as the quality report takes them: the same as one label at a time, in the
+  // same order, and no entry for a label on no triangle.
+  const auto byLabel = BoundaryTrianglesByLabel(mesh);
+  ASSERT_EQ(byLabel.size(), 3u);
+  for (const Label label : { BackgroundLabel, 1, 2 })
+  {
+    ASSERT_EQ(byLabel.count(label), 1u) << "label " << label;
+    EXPECT_EQ(byLabel.at(label), LabelBoundaryTriangles(mesh, label)) << "label " << label;
+  }
+  EXPECT_EQ(byLabel.at(1).size(), 8u);
 }
 
 TEST(ShortestEdgesByKind, EachEndpointCountsForItsKind)
