@@ -105,6 +105,10 @@
 #   labels-always-four-bytes      the label image takes four bytes a voxel whatever its labels (the memory of before)
 #   byte-holds-256                a label image whose largest label is 256 is stored in one byte a voxel (256 becomes
 #                                 background)
+#   Bugs in the quality report's one-pass counts (added 2026-12-01):
+#   lost-components-run-stale     the voxel components of a label that is not counted go to the label counted before it
+#   boundary-triangles-one-side   each boundary triangle goes to the label on its first side only, so a tissue's
+#                                 boundary against another tissue misses the triangles whose first side is the other
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -280,7 +284,8 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   openings-unchecked flat-cap-needs-three-facets cli-regularization-scale-ignored cli-relabelling-ignored
   cli-thick-parts-ignored cli-manifold-levels-ignored report-pinches-read-relabelled
   regularization-reach-tie-margin-dropped r3-tie-margin-dropped halving-needs-regularization
-  r3-finer-sample-not-noted iso-values-not-carried labels-always-four-bytes byte-holds-256)
+  r3-finer-sample-not-noted iso-values-not-carried labels-always-four-bytes byte-holds-256
+  lost-components-run-stale boundary-triangles-one-side)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -682,6 +687,13 @@ apply_mutation() {
     byte-holds-256)
       mutate "$tree/include/itkImageLabelSelection.h" 'highest <= std::numeric_limits<uint8_t>::max()' \
         'highest <= std::numeric_limits<uint8_t>::max() + 1'
+      ;;
+    lost-components-run-stale)
+      mutate "$tree/src/DelaunayImageToMeshVoxelComponents.cxx" 'runCount = found == counts.end() ? nullptr' \
+        'runCount = found == counts.end() ? runCount'
+      ;;
+    boundary-triangles-one-side)
+      mutate "$tree/src/DelaunayRefinementSurfaceTopology.cxx" 'if (sides[1] != sides[0])' 'if (false)'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2
