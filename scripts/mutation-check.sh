@@ -105,10 +105,12 @@
 #   labels-always-four-bytes      the label image takes four bytes a voxel whatever its labels (the memory of before)
 #   byte-holds-256                a label image whose largest label is 256 is stored in one byte a voxel (256 becomes
 #                                 background)
-#   Bugs in the quality report's one-pass counts (added 2026-12-01):
+#   Bugs in the quality report's one-pass counts (added 2026-12-01; both run and caught that day):
 #   lost-components-run-stale     the voxel components of a label that is not counted go to the label counted before it
+#                                 (caught by 4 tests: both VoxelComponents tests, a QualityReport and a CLI LostTissue)
 #   boundary-triangles-one-side   each boundary triangle goes to the label on its first side only, so a tissue's
 #                                 boundary against another tissue misses the triangles whose first side is the other
+#                                 (caught by 6: SurfaceTopology, three QualityReport tests, two CLI independent checks)
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
