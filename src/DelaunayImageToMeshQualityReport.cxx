@@ -126,15 +126,16 @@ MeasureLabels(const TetrahedralMesh & mesh, const LabelVolume & segmentation)
       labels[label].segmentedVolume += voxelVolume;
     }
   }
-  const std::map<Label, std::vector<std::array<uint32_t, 3>>> boundaryTriangles = BoundaryTrianglesByLabel(mesh);
-  std::vector<Label>                                          lost;
+  using Triangles = std::vector<std::array<uint32_t, 3>>;
+  const std::map<Label, Triangles> boundaryTriangles = BoundaryTrianglesByLabel(mesh);
+  const Triangles                  none;
+  std::vector<Label>               lost;
   for (auto & labelAndQuality : labels)
   {
     LabelQuality & quality = labelAndQuality.second;
     quality.label = labelAndQuality.first;
-    const auto triangles = boundaryTriangles.find(quality.label);
-    quality.boundary = ComputeSurfaceTopology(
-      mesh.points, triangles == boundaryTriangles.end() ? std::vector<std::array<uint32_t, 3>>{} : triangles->second);
+    const auto found = boundaryTriangles.find(quality.label);
+    quality.boundary = ComputeSurfaceTopology(mesh.points, found == boundaryTriangles.end() ? none : found->second);
     if (quality.IsLost())
     {
       lost.push_back(quality.label);

@@ -30,9 +30,9 @@ namespace delaunay_refinement
 /** The number of face-connected components of the voxels of each of `labels` in `volume`, padded with one layer of
  * background (as VTK's image connectivity filter counts them on the padded image, which the tests check it against):
  * how many pieces each tissue is made of in the segmentation. One flood fill over the volume for all the labels
- * together: the report asks for every lost tissue, and one pass over a 1 mm atlas per tissue was a third of the
- * command-line program's run on an image of 575 labels of which 62 were lost (bench/README.md, "At ..."). A label
- * absent from the volume counts 0. */
+ * together: the report asks for every lost tissue, and a pass over the whole image per lost tissue was a sixth of the
+ * command-line program's run on a phantom of 575 labels of which 63 were lost (bench/README.md, "At 1946612"). A
+ * label absent from the volume counts 0. */
 std::map<Label, std::size_t>
 CountVoxelComponents(const LabelVolume & volume, const std::vector<Label> & labels);
 
