@@ -111,6 +111,9 @@
 #   boundary-triangles-one-side   each boundary triangle goes to the label on its first side only, so a tissue's
 #                                 boundary against another tissue misses the triangles whose first side is the other
 #                                 (caught by 6: SurfaceTopology, three QualityReport tests, two CLI independent checks)
+#   A bug in the topology rounds' stop (added 2026-12-01):
+#   rounds-stop-on-a-high-count   the regularisation rounds stop after two rounds above the start's count of places even
+#                                 while the count falls (the rule before 99ed4fb)
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -287,7 +290,7 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   cli-thick-parts-ignored cli-manifold-levels-ignored report-pinches-read-relabelled
   regularization-reach-tie-margin-dropped r3-tie-margin-dropped halving-needs-regularization
   r3-finer-sample-not-noted iso-values-not-carried labels-always-four-bytes byte-holds-256
-  lost-components-run-stale boundary-triangles-one-side)
+  lost-components-run-stale boundary-triangles-one-side rounds-stop-on-a-high-count)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -696,6 +699,9 @@ apply_mutation() {
       ;;
     boundary-triangles-one-side)
       mutate "$tree/src/DelaunayRefinementSurfaceTopology.cxx" 'if (sides[1] != sides[0])' 'if (false)'
+      ;;
+    rounds-stop-on-a-high-count)
+      mutate "$tree/src/DelaunayRefinementMesher.cxx" 'else if (places.places.size() > placesBefore)' 'else if (true)'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2
