@@ -113,7 +113,9 @@
 #                                 (caught by 6: SurfaceTopology, three QualityReport tests, two CLI independent checks)
 #   A bug in the topology rounds' stop (added 2026-12-01):
 #   rounds-stop-on-a-high-count   the regularisation rounds stop after two rounds above the start's count of places even
-#                                 while the count falls (the rule before 99ed4fb)
+#                                 while the count falls (the rule before 99ed4fb); run on 2026-12-01 with
+#                                 DELAUNAY_MUTATION_CTEST_ARGS="-R RandomizedRegression" (25 tests): caught by
+#                                 RandomizedRegression.FewPlacesThatFluctuateDoNotStopTheRounds (SaltAndPepper 2297698)
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -265,7 +267,9 @@
 # regularization-reach-tie-margin-dropped caught by LabelRegularization.RadiusesOnTheLatticeFollowTheRadiusNotItsLastBits
 # and KmeansTissues.TheRegularisationFollowsDeltaNotItsLastBits.
 # R3's tie margin, run the same day with DELAUNAY_MUTATION_CTEST_ARGS="-R LastBits|BrainMask": r3-tie-margin-dropped
-# caught by BrainMask.TheDefaultsFollowDeltaNotItsLastBits (2.5 mm) and the brain mask's fingerprint.
+# caught by BrainMask.TheDefaultsFollowDeltaNotItsLastBits (2.5 mm) and the brain mask's fingerprint; rerun on
+# 2026-12-01 with "-R RandomizedRegression" (25 tests): caught by RandomizedRegression.BoundaryWithinTheSurfaceBallsTieMargin
+# (SheetsAndLines 3315603 then stays within δ: the test checks that the case still reaches past it).
 # iso-values-not-carried, run on 2026-11-30 at cb6763c with DELAUNAY_MUTATION_CTEST_ARGS="-R
 # IsoSurface|HostileIso|TopologyOptions": caught by the two voxel-centre tests of IsoSurfaceRegularisation,
 # HostileIsoSurfaces OneVoxelSlit at delta = the spacing, and the randomized IsoSurfaces family.
