@@ -54,7 +54,9 @@ struct RefinementParameters
   std::size_t maximumNumberOfVertices{ 10000000 };
   /** Where a boundary comes out non-manifold and the oracle is a TopologyRegularizer, its labels are regularised
    * in a ball of radius δ around each such place and the refinement resumes there, at most this many rounds
-   * (docs/algorithm.md, "Topology"). 0 = never. Must be in [0, 20]. The rounds stop when no place is left: with
+   * (docs/algorithm.md, "Topology"). 0 = never. Must be in [0, 20]. The rounds stop when no place is left, or
+   * earlier when the places have risen twice above the count they began with (the rounds are then making things
+   * worse) or the rounds have inserted their budget of vertices; the places left are reported. With
    * σ = 0 no bench image needs more than 5, but with σ > 0 R4′'s splits in layers about δ thick make new places
    * that later rounds settle (σ = 15°: the k-means tissues at 4.5 mm kept non-manifold vertices after 6 rounds,
    * 0 after 10; on the 1 mm grid at 2 mm, 1 after 10, 0 after 20). */
