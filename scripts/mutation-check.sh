@@ -116,6 +116,12 @@
 #                                 while the count falls (the rule before 99ed4fb); run on 2026-12-01 with
 #                                 DELAUNAY_MUTATION_CTEST_ARGS="-R RandomizedRegression" (25 tests): caught by
 #                                 RandomizedRegression.FewPlacesThatFluctuateDoNotStopTheRounds (SaltAndPepper 2297698)
+#   A bug in the work on threads (added 2026-12-02):
+#   calling-thread-waits-unchecked the calling thread, its pieces done, waits for the other threads without reporting
+#                                 progress or seeing an abort (the CI failure of 2026-12-01: an abort asked for within
+#                                 the openings was seen after them); run on 2026-12-02 by hand: caught by
+#                                 ParallelPieces.TheCallingThreadChecksWhileTheOthersWork and
+#                                 ParallelPieces.AnAbortSeenWhileWaitingIsRethrown
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -294,7 +300,8 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   cli-thick-parts-ignored cli-manifold-levels-ignored report-pinches-read-relabelled
   regularization-reach-tie-margin-dropped r3-tie-margin-dropped halving-needs-regularization
   r3-finer-sample-not-noted iso-values-not-carried labels-always-four-bytes byte-holds-256
-  lost-components-run-stale boundary-triangles-one-side rounds-stop-on-a-high-count)
+  lost-components-run-stale boundary-triangles-one-side rounds-stop-on-a-high-count
+  calling-thread-waits-unchecked)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -629,8 +636,8 @@ apply_mutation() {
       ;;
     openings-unchecked)
       mutate "$tree/src/DelaunayRefinementLabelRegularization.cxx" \
-        'if (std::this_thread::get_id() != m_CallingThread)' \
-        'if (true)'
+        'if (std::this_thread::get_id() == m_CallingThread)' \
+        'if (false)'
       ;;
     flat-cap-needs-three-facets)
       mutate "$tree/src/DelaunayRefinementFlatCaps.h" \
@@ -706,6 +713,9 @@ apply_mutation() {
       ;;
     rounds-stop-on-a-high-count)
       mutate "$tree/src/DelaunayRefinementMesher.cxx" 'else if (places.places.size() > placesBefore)' 'else if (true)'
+      ;;
+    calling-thread-waits-unchecked)
+      mutate "$tree/src/DelaunayRefinementParallel.h" 'while (!othersEnded.wait_for(' 'while (false && !othersEnded.wait_for('
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2

@@ -1145,13 +1145,14 @@ private:
   };
 
   /** Throws RefinementAborted when asked to stop, and otherwise reports the fraction of the work done so far. Only on
-   * the calling thread (an observer may not expect another). The labels change only at the very end, so they are
-   * intact. */
+   * the calling thread (an observer may not expect another); the other threads see the abort at their next
+   * opening checkpoint. The labels change only at the very end, so they are intact. */
   void
   Checkpoint() const
   {
     if (m_KeepGoing && !m_KeepGoing(m_Reported))
     {
+      m_AbortSeen = true;
       throw RefinementAborted("Label regularisation aborted by the progress observer");
     }
   }
@@ -1164,20 +1165,44 @@ private:
     Checkpoint();
   }
 
-  /** Within the openings: the labels opened so far, and `partOfOwn` of the one the calling thread opens; a check
-   * only on the calling thread (the openings run on the threads, the largest box first, and on a large image one
-   * label's opening is a fraction of a second). */
-  void
-  OpeningCheckpoint(double partOfOwn, std::size_t ownBoxVoxels) const
+  /** How far one label's opening has gone, in voxels of its box counted into m_OpenedBoxVoxels. */
+  struct OpeningProgress
   {
-    if (std::this_thread::get_id() != m_CallingThread)
+    std::size_t boxVoxels;
+    std::size_t counted;
+  };
+
+  /** Within the openings, on any thread: `partOfOwn` of the label this thread opens is done, and counted with the
+   * others' progress (the openings run on the threads, the largest box first, and on a large image one label's
+   * opening is a fraction of a second). The calling thread reports the openings' progress; another thread stops
+   * here once the calling thread has seen an abort. */
+  void
+  OpeningCheckpoint(OpeningProgress & own, double partOfOwn) const
+  {
+    const auto reached = static_cast<std::size_t>(partOfOwn * static_cast<double>(own.boxVoxels));
+    if (reached > own.counted)
     {
-      return;
+      m_OpenedBoxVoxels += reached - own.counted;
+      own.counted = reached;
     }
-    const double opened = static_cast<double>(m_OpenedBoxVoxels.load()) + partOfOwn * static_cast<double>(ownBoxVoxels);
-    ReachStage(ProgressAfter::componentsBefore +
-               (ProgressAfter::openings - ProgressAfter::componentsBefore) *
-                 std::min(1.0, opened / std::max(1.0, static_cast<double>(m_BoxVoxelsToOpen))));
+    if (std::this_thread::get_id() == m_CallingThread)
+    {
+      ReportOpenings();
+    }
+    else if (m_AbortSeen)
+    {
+      throw RefinementAborted("Label regularisation aborted by the progress observer");
+    }
+  }
+
+  /** Reports the openings' progress on every thread so far; on the calling thread only. */
+  void
+  ReportOpenings() const
+  {
+    ReachStage(ProgressAfter::componentsBefore + (ProgressAfter::openings - ProgressAfter::componentsBefore) *
+                                                   std::min(1.0,
+                                                            static_cast<double>(m_OpenedBoxVoxels.load()) /
+                                                              std::max(1.0, static_cast<double>(m_BoxVoxelsToOpen))));
   }
 
   static LabelRegularizationChange &
@@ -1325,15 +1350,14 @@ private:
    * outside the grid); none when the erosion removes nothing. */
   std::optional<BoxBits>
   OpenLabel(Label label, const VoxelBox & box, const std::vector<BallRow> & erosionBall,
-            const std::vector<BallRow> & dilationBall) const
+            const std::vector<BallRow> & dilationBall, OpeningProgress & progress) const
   {
     // Each set is made in place from the one before where it can: every copy of a box's bits is fresh memory, and
     // fresh memory costs a page fault per page (DelaunayRefinementLargeBuffers.h).
-    const std::size_t boxVoxels = box.NumberOfVoxels();
-    BoxBits           voxels = VoxelsOf(label, box);
-    OpeningCheckpoint(0.1, boxVoxels);
+    BoxBits voxels = VoxelsOf(label, box);
+    OpeningCheckpoint(progress, 0.1);
     BoxBits eroded = DilateByBall(OuterBoundary(voxels), erosionBall);
-    OpeningCheckpoint(0.4, boxVoxels);
+    OpeningCheckpoint(progress, 0.4);
     eroded.Keep(voxels, false);
     if (!eroded.Any())
     {
@@ -1346,7 +1370,7 @@ private:
     notKept.Invert();
     const BoxBits survivorsAtTheEdge = OuterBoundary(notKept);
     const BoxBits givenBack = DilateByBall(survivorsAtTheEdge, dilationBall);
-    OpeningCheckpoint(0.7, boxVoxels);
+    OpeningCheckpoint(progress, 0.7);
     BoxBits onlyByTheLastHalfVoxel = eroded;
     onlyByTheLastHalfVoxel.Keep(givenBack, false);
     BoxBits & lost = eroded;
@@ -1411,10 +1435,11 @@ private:
       toOpen.size(),
       m_NumberOfThreads,
       [&](std::size_t index) {
-        lostOfLabel[index] = OpenLabel(toOpen[index].first, toOpen[index].second, erosionBall, dilationBall);
-        m_OpenedBoxVoxels += toOpen[index].second.NumberOfVoxels();
+        OpeningProgress progress{ toOpen[index].second.NumberOfVoxels(), 0 };
+        lostOfLabel[index] = OpenLabel(toOpen[index].first, toOpen[index].second, erosionBall, dilationBall, progress);
+        OpeningCheckpoint(progress, 1.0);
       },
-      [this] { OpeningCheckpoint(0.0, 0); });
+      [this] { ReportOpenings(); });
     ReachStage(ProgressAfter::openings);
     // Flagged here, not by the labels' openings on the threads, since neighbouring voxels share a word. A voxel has
     // one label, so no voxel is counted twice.
@@ -1766,16 +1791,18 @@ private:
   std::thread::id m_CallingThread;
   /** The fraction of the work reported so far (ProgressAfter). */
   mutable double m_Reported{ 0.0 };
-  /** The voxels of the boxes the openings work on, and of those opened so far (on any thread). */
+  /** The voxels of the boxes the openings work on, and of those opened so far (on any thread, in part). */
   mutable std::size_t              m_BoxVoxelsToOpen{ 0 };
   mutable std::atomic<std::size_t> m_OpenedBoxVoxels{ 0 };
-  std::size_t                      m_NumberOfThreads;
-  std::array<std::size_t, 3>       m_Size;
-  Vector3                          m_Spacing;
-  double                           m_Radius;
-  double                           m_Reach;
-  double                           m_DilationReach;
-  std::size_t                      m_NumberOfVoxels;
+  /** Whether the calling thread has seen the observer ask for an abort: the other threads stop too. */
+  mutable std::atomic<bool>  m_AbortSeen{ false };
+  std::size_t                m_NumberOfThreads;
+  std::array<std::size_t, 3> m_Size;
+  Vector3                    m_Spacing;
+  double                     m_Radius;
+  double                     m_Reach;
+  double                     m_DilationReach;
+  std::size_t                m_NumberOfVoxels;
 };
 } // namespace
 

@@ -24,8 +24,11 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
+#include <condition_variable>
 #include <cstddef>
 #include <exception>
+#include <mutex>
 #include <thread>
 #include <vector>
 
@@ -75,11 +78,19 @@ ForEachRangeInParallel(std::size_t count, std::size_t threads, std::size_t minim
   }
 }
 
+/** How often the calling thread of ForEachIndexInParallel, once no index is left for it, calls `onCallingThread()`
+ * while the other threads finish theirs: often enough for a progress bar to move and an abort to be seen at once
+ * by a user, rarely enough to cost nothing. */
+constexpr std::chrono::milliseconds CallingThreadWaitCheckInterval{ 20 };
+
 /** Calls work(index) for every index in [0, count), on up to `threads` threads that each take the next index when
  * they finish one (for pieces of work of very different sizes); the calling thread takes part and calls
- * `onCallingThread()` before each index it takes (a check for an abort, which must not run elsewhere): when that or
- * a call of work throws, no index is started any more (an abort inside one piece stops the others' queue too) and
- * the exception is rethrown once every thread has ended. The calls of work must not depend on each other. */
+ * `onCallingThread()` before each index it takes, and then every CallingThreadWaitCheckInterval until the other
+ * threads have ended (a progress report and a check for an abort, which must not run elsewhere: without the
+ * checks while it waits, an abort asked for while another thread opened the largest piece was seen only after it).
+ * When that or a call of work throws, no index is started any more (an abort inside one piece stops the others'
+ * queue too) and the exception is rethrown once every thread has ended. The calls of work must not depend on each
+ * other. */
 template <typename TWork, typename TOnCallingThread>
 void
 ForEachIndexInParallel(std::size_t count, std::size_t threads, const TWork & work,
@@ -87,12 +98,15 @@ ForEachIndexInParallel(std::size_t count, std::size_t threads, const TWork & wor
 {
   std::atomic<std::size_t> next{ 0 };
   const std::size_t        used = std::max<std::size_t>(1, std::min(threads, count));
-  ForEachRangeInParallel(used, used, 1, [&](std::size_t range, std::size_t) {
+  std::mutex               othersMutex;
+  std::condition_variable  othersEnded;
+  std::size_t              othersRunning = used - 1;
+  const auto               takeIndices = [&](bool onTheCallingThread) {
     for (std::size_t index = next++; index < count; index = next++)
     {
       try
       {
-        if (range == 0)
+        if (onTheCallingThread)
         {
           onCallingThread();
         }
@@ -103,6 +117,44 @@ ForEachIndexInParallel(std::size_t count, std::size_t threads, const TWork & wor
         next = count;
         throw;
       }
+    }
+  };
+  ForEachRangeInParallel(used, used, 1, [&](std::size_t range, std::size_t) {
+    if (range != 0)
+    {
+      // The count of running threads goes down however the work ends, or the calling thread would wait forever.
+      struct Ended
+      {
+        std::mutex &              mutex;
+        std::condition_variable & ended;
+        std::size_t &             running;
+        ~Ended()
+        {
+          {
+            const std::lock_guard<std::mutex> lock(mutex);
+            --running;
+          }
+          ended.notify_one();
+        }
+      } ended{ othersMutex, othersEnded, othersRunning };
+      takeIndices(false);
+      return;
+    }
+    takeIndices(true);
+    std::unique_lock<std::mutex> lock(othersMutex);
+    while (!othersEnded.wait_for(lock, CallingThreadWaitCheckInterval, [&othersRunning] { return othersRunning == 0; }))
+    {
+      lock.unlock();
+      try
+      {
+        onCallingThread();
+      }
+      catch (...)
+      {
+        next = count;
+        throw;
+      }
+      lock.lock();
     }
   });
 }

@@ -579,8 +579,11 @@ TEST(LabelRegularization, ReportsItsProgressAndStopsWithinTheOpenings)
                  spacing,
                  1.5,
                  [&untilAbort](double fraction) {
+                   // The first fraction past the component count: whichever thread opens what, the calling thread
+                   // reports one within its first opening (an abort at a later fraction would depend on the
+                   // threads' timing: the calling thread may have no opening left by then).
                    untilAbort.push_back(fraction);
-                   return fraction < 0.2;
+                   return fraction <= 0.05;
                  },
                  2),
                RefinementAborted);

@@ -1,0 +1,143 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+
+// The work over pieces on several threads (DelaunayRefinementParallel.h): every index is worked once, and the
+// calling thread, once no piece is left for it, keeps calling its check while the other threads finish, so that a
+// progress bar moves and an abort is seen while another thread works on a long piece.
+
+#include "DelaunayRefinementParallel.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+namespace delaunay_refinement
+{
+namespace
+{
+
+/** How long a piece on another thread waits for what the calling thread does before the test gives up: far longer
+ * than CallingThreadWaitCheckInterval, so that it is reached only when the calling thread does not check. */
+constexpr std::chrono::seconds GiveUpAfter{ 10 };
+
+/** Waits on this thread until `reached()` or GiveUpAfter; whether it was reached. */
+template <typename TReached>
+bool
+WaitUntil(const TReached & reached)
+{
+  const auto start = std::chrono::steady_clock::now();
+  while (!reached())
+  {
+    if (std::chrono::steady_clock::now() - start > GiveUpAfter)
+    {
+      return false;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return true;
+}
+
+TEST(ParallelPieces, EveryIndexIsWorkedOnce)
+{
+  for (const std::size_t threads : { 1, 2, 3, 8 })
+  {
+    std::vector<std::atomic<int>> worked(37);
+    detail::ForEachIndexInParallel(
+      worked.size(), threads, [&worked](std::size_t index) { ++worked[index]; }, [] {});
+    for (std::size_t index = 0; index < worked.size(); ++index)
+    {
+      EXPECT_EQ(worked[index].load(), 1) << "index " << index << " on " << threads << " threads";
+    }
+  }
+}
+
+// Every piece on another thread lasts until the calling thread has made more checks than there are pieces: it
+// ends only if the calling thread checks while it waits.
+TEST(ParallelPieces, TheCallingThreadChecksWhileTheOthersWork)
+{
+  const std::thread::id callingThread = std::this_thread::get_id();
+  std::atomic<int>      checks{ 0 };
+  std::atomic<int>      piecesOnTheCallingThread{ 0 };
+  std::atomic<bool>     otherThreadStarted{ false };
+  std::atomic<bool>     gaveUp{ false };
+  const std::size_t     count = 4;
+  detail::ForEachIndexInParallel(
+    count,
+    2,
+    [&](std::size_t) {
+      if (std::this_thread::get_id() == callingThread)
+      {
+        // The calling thread's pieces end once the other thread holds one (or it would take them all first).
+        gaveUp = gaveUp || !WaitUntil([&] { return otherThreadStarted.load(); });
+        ++piecesOnTheCallingThread;
+        return;
+      }
+      otherThreadStarted = true;
+      // The calling thread checks once before each of its pieces: more checks than pieces come from its waiting.
+      if (!WaitUntil([&] { return checks.load() > static_cast<int>(count) + 2; }))
+      {
+        gaveUp = true;
+      }
+    },
+    [&checks] { ++checks; });
+  EXPECT_FALSE(gaveUp) << "the calling thread made " << checks.load() << " checks while the other thread worked";
+  EXPECT_GT(checks.load(), piecesOnTheCallingThread.load());
+}
+
+// An abort seen by the calling thread's check while it waits, its own pieces done and another thread's running, is
+// rethrown once that thread has ended: without the checks while it waits, the calling thread would wait for a piece
+// that lasts until the abort.
+TEST(ParallelPieces, AnAbortSeenWhileWaitingIsRethrown)
+{
+  const std::thread::id callingThread = std::this_thread::get_id();
+  std::atomic<bool>     abortSeen{ false };
+  std::atomic<bool>     otherThreadStarted{ false };
+  std::atomic<int>      piecesOnTheCallingThread{ 0 };
+  std::atomic<bool>     gaveUp{ false };
+  EXPECT_THROW(detail::ForEachIndexInParallel(
+                 2,
+                 2,
+                 [&](std::size_t) {
+                   if (std::this_thread::get_id() == callingThread)
+                   {
+                     // The calling thread's piece ends once the other thread holds the other piece.
+                     gaveUp = gaveUp || !WaitUntil([&] { return otherThreadStarted.load(); });
+                     ++piecesOnTheCallingThread;
+                     return;
+                   }
+                   otherThreadStarted = true;
+                   gaveUp = gaveUp || !WaitUntil([&] { return abortSeen.load(); });
+                 },
+                 [&] {
+                   if (piecesOnTheCallingThread > 0 && otherThreadStarted)
+                   {
+                     abortSeen = true;
+                     throw std::runtime_error("aborted");
+                   }
+                 }),
+               std::runtime_error);
+  EXPECT_FALSE(gaveUp);
+  EXPECT_EQ(piecesOnTheCallingThread.load(), 1);
+}
+
+} // namespace
+} // namespace delaunay_refinement
