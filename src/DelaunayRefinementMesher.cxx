@@ -171,9 +171,24 @@ private:
           m_Sizing.NoteFinerSample(action.point, action.ballRadius);
         }
         return true;
-      case Rule::R4:
+      case Rule::R4: {
         ++m_Statistics.insertionsR4;
-        return m_State.InsertVertex(action.point, VertexKind::Free, cell).has_value();
+        // R4's point is its circumradius from every vertex, and that is ρ × the tetrahedron's shortest edge or more:
+        // beside a zone's short edges, with ρ < 2, it can be below the δ there (Lemma 2's ρδ), and the exported
+        // sizing says so (LocalSampling::NoteFinerSample), even once the zone's own points are gone (the randomized
+        // SheetsAndLines 3330698, ρ = 1: an R4 point 0.98 δ from a feature vertex, every output point at δ). Not
+        // below every zone's δ, as for R3 above: shorter edges come from R4′'s points only.
+        const double honoured = std::sqrt(cell->cache.squaredRadius) / std::min(m_Parameters.radiusEdgeBound, 2.0);
+        if (!m_State.InsertVertex(action.point, VertexKind::Free, cell))
+        {
+          return false;
+        }
+        if (honoured >= m_Sizing.FinestDelta())
+        {
+          m_Sizing.NoteFinerSample(action.point, honoured);
+        }
+        return true;
+      }
       case Rule::R4Dihedral:
         return SplitSliver(cell, action.point);
     }

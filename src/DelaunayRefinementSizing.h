@@ -76,10 +76,12 @@ public:
   /** Records that a vertex was inserted at `point` honouring `delta`, when that is finer than the δ of the zones
    * holding `point`: R2's free vertex for a circumball that met a zone (DeltaForCircumball), which lies outside the
    * zone; R3's feature vertex for a facet whose shortest edge was its threshold, which happens beside a zone, where the
-   * zone's short edges reach its facets (RefinementRules::SurfaceBallThreshold). Such a vertex's edges are bounded by
-   * `delta`, not by LocalDelta there. The exported sizing reads it back (SamplingDistanceOf), so that it states what
-   * the refinement honoured at every point, even where the zone's own points are not in the mesh (the randomized
-   * SaltAndPepper 2240051: an R3 point 0.90 δ from its neighbours, with every output point at δ). */
+   * zone's short edges reach its facets (RefinementRules::SurfaceBallThreshold); R4's free vertex whose circumradius
+   * is below min(ρ, 2) × the δ there, beside such short edges (its edges are the circumradius or longer, and Lemma 2
+   * asks min(ρ, 2) δ of a free vertex's edges: it is noted at the circumradius over min(ρ, 2)). Such a vertex's edges
+   * are bounded by `delta`, not by LocalDelta there. The exported sizing reads it back (SamplingDistanceOf), so that it
+   * states what the refinement honoured at every point, even where the zone's own points are not in the mesh (the
+   * randomized SaltAndPepper 2240051: an R3 point 0.90 δ from its neighbours, with every output point at δ). */
   void
   NoteFinerSample(const Vector3 & point, double delta)
   {
@@ -182,7 +184,7 @@ private:
   SpatialGrid<std::size_t> m_ZoneCenters;
   bool                     m_AnyZoneReachesCircumballs{ false };
   /** NoteFinerSample's points; few, since only zones make them (R2's near a zone of reach ZoneReach::Circumballs, R3's
-   * beside any zone's short edges). */
+   * and R4's beside any zone's short edges). */
   std::map<Vector3, double> m_FinerSamples;
 };
 

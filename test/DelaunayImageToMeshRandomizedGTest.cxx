@@ -1716,6 +1716,20 @@ TEST(RandomizedRegression, BoundaryWithinTheSurfaceBallsTieMargin)
   EXPECT_GT(report.result.meshToSegmentation, 1.0) << "the case is no longer the one";
 }
 
+/** With ρ < 2, R4's point is only ρ × its tetrahedron's shortest edge from its neighbours, so beside a zone's short
+ * edges it comes closer than the δ at its point, and the mesh exports that (docs/algorithm.md, "Local sampling
+ * distance"). Found by a search of seeds 330,400-331,999: SheetsAndLines 3330698 (ρ = 1, σ = 0, an oblique
+ * direction) sampled a thick part at δ / 2, whose points all went later, and kept an R4 vertex 0.98 δ from a feature
+ * vertex and from a free one while every output point was exported at δ. The case must pass every check, Lemma 2's
+ * edges against the exported sizing among them. */
+TEST(RandomizedRegression, AnR4PointBesideAZoneExportsItsSpacing)
+{
+  const RandomCase randomCase = MakeCase(Family::SheetsAndLines, 3330698);
+  ASSERT_EQ(randomCase.settings.radiusEdgeBound, 1.0) << "the case is no longer the one";
+  ASSERT_EQ(randomCase.settings.minimumDihedralAngle, 0.0) << "the case is no longer the one";
+  ExpectMeshPassingEveryCheck(randomCase);
+}
+
 // ---- Stability under the last bits of δ ---------------------------------------------------------------------
 
 /** What a run made: its outcome and, for a mesh, its counts. */
