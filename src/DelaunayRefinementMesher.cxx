@@ -732,7 +732,8 @@ private:
   {
     NonManifoldPlaces places = RelabelAndFindNonManifoldPlaces();
     const std::size_t placesFound = places.places.size();
-    // How far above placesFound a count of places is "more" (below).
+    // How far above placesFound a count must be to stand above the start's level (below): a ball's mending may leave a
+    // few places beside it, and counts of many places fluctuate by about their square root.
     const double fluctuation =
       std::max(std::sqrt(static_cast<double>(placesFound)), PlacesABallMayLeaveBesideTheOneItMends);
     // Rounds that left more places than the round before and more than the repair began with, since the count was
