@@ -70,73 +70,67 @@ TEST(ParallelPieces, EveryIndexIsWorkedOnce)
   }
 }
 
-// Every piece on another thread lasts until the calling thread has made more checks than there are pieces: it
-// ends only if the calling thread checks while it waits.
-TEST(ParallelPieces, TheCallingThreadChecksWhileTheOthersWork)
+/** Pieces for two threads: the calling thread's end once the other thread holds one (or the calling thread could
+ * take them all before the other starts), the other thread's last until `released()`. Remembers whether a wait gave
+ * up. */
+struct PiecesOnTwoThreads
 {
   const std::thread::id callingThread = std::this_thread::get_id();
-  std::atomic<int>      checks{ 0 };
-  std::atomic<int>      piecesOnTheCallingThread{ 0 };
   std::atomic<bool>     otherThreadStarted{ false };
+  std::atomic<int>      piecesOnTheCallingThread{ 0 };
   std::atomic<bool>     gaveUp{ false };
-  const std::size_t     count = 4;
-  detail::ForEachIndexInParallel(
-    count,
-    2,
-    [&](std::size_t) {
+
+  template <typename TReleased>
+  auto
+  Work(const TReleased & released)
+  {
+    return [this, &released](std::size_t) {
       if (std::this_thread::get_id() == callingThread)
       {
-        // The calling thread's pieces end once the other thread holds one (or it would take them all first).
-        gaveUp = gaveUp || !WaitUntil([&] { return otherThreadStarted.load(); });
+        gaveUp = gaveUp || !WaitUntil([this] { return otherThreadStarted.load(); });
         ++piecesOnTheCallingThread;
         return;
       }
       otherThreadStarted = true;
-      // The calling thread checks once before each of its pieces: more checks than pieces come from its waiting.
-      if (!WaitUntil([&] { return checks.load() > static_cast<int>(count) + 2; }))
-      {
-        gaveUp = true;
-      }
-    },
-    [&checks] { ++checks; });
-  EXPECT_FALSE(gaveUp) << "the calling thread made " << checks.load() << " checks while the other thread worked";
-  EXPECT_GT(checks.load(), piecesOnTheCallingThread.load());
+      gaveUp = gaveUp || !WaitUntil(released);
+    };
+  }
+};
+
+// Every piece on another thread lasts until the calling thread has made more checks than there are pieces (it checks
+// once before each of its own): it ends only if the calling thread checks while it waits.
+TEST(ParallelPieces, TheCallingThreadChecksWhileTheOthersWork)
+{
+  const std::size_t  count = 4;
+  std::atomic<int>   checks{ 0 };
+  PiecesOnTwoThreads pieces;
+  const auto         released = [&checks] { return checks.load() > static_cast<int>(count) + 2; };
+  detail::ForEachIndexInParallel(count, 2, pieces.Work(released), [&checks] { ++checks; });
+  EXPECT_FALSE(pieces.gaveUp) << "the calling thread made " << checks.load() << " checks while the other thread worked";
+  EXPECT_GT(checks.load(), pieces.piecesOnTheCallingThread.load());
 }
 
-// An abort seen by the calling thread's check while it waits, its own pieces done and another thread's running, is
+// An abort seen by the calling thread's check while it waits, its own piece done and the other thread's running, is
 // rethrown once that thread has ended: without the checks while it waits, the calling thread would wait for a piece
 // that lasts until the abort.
 TEST(ParallelPieces, AnAbortSeenWhileWaitingIsRethrown)
 {
-  const std::thread::id callingThread = std::this_thread::get_id();
-  std::atomic<bool>     abortSeen{ false };
-  std::atomic<bool>     otherThreadStarted{ false };
-  std::atomic<int>      piecesOnTheCallingThread{ 0 };
-  std::atomic<bool>     gaveUp{ false };
-  EXPECT_THROW(detail::ForEachIndexInParallel(
-                 2,
-                 2,
-                 [&](std::size_t) {
-                   if (std::this_thread::get_id() == callingThread)
-                   {
-                     // The calling thread's piece ends once the other thread holds the other piece.
-                     gaveUp = gaveUp || !WaitUntil([&] { return otherThreadStarted.load(); });
-                     ++piecesOnTheCallingThread;
-                     return;
-                   }
-                   otherThreadStarted = true;
-                   gaveUp = gaveUp || !WaitUntil([&] { return abortSeen.load(); });
-                 },
-                 [&] {
-                   if (piecesOnTheCallingThread > 0 && otherThreadStarted)
-                   {
-                     abortSeen = true;
-                     throw std::runtime_error("aborted");
-                   }
-                 }),
+  std::atomic<bool>  abortSeen{ false };
+  PiecesOnTwoThreads pieces;
+  const auto         released = [&abortSeen] { return abortSeen.load(); };
+  EXPECT_THROW(detail::ForEachIndexInParallel(2,
+                                              2,
+                                              pieces.Work(released),
+                                              [&] {
+                                                if (pieces.piecesOnTheCallingThread > 0 && pieces.otherThreadStarted)
+                                                {
+                                                  abortSeen = true;
+                                                  throw std::runtime_error("aborted");
+                                                }
+                                              }),
                std::runtime_error);
-  EXPECT_FALSE(gaveUp);
-  EXPECT_EQ(piecesOnTheCallingThread.load(), 1);
+  EXPECT_FALSE(pieces.gaveUp);
+  EXPECT_EQ(pieces.piecesOnTheCallingThread.load(), 1);
 }
 
 } // namespace
