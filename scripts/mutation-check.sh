@@ -122,6 +122,9 @@
 #                                 the openings was seen after them); run on 2026-12-02 by hand: caught by
 #                                 ParallelPieces.TheCallingThreadChecksWhileTheOthersWork and
 #                                 ParallelPieces.AnAbortSeenWhileWaitingIsRethrown
+#   r4-finer-sample-not-noted     R4's free vertex beside a zone, closer than the δ there, is exported at that δ (the
+#                                 code before 5cc3390); run on 2026-12-02 by hand: caught by
+#                                 RandomizedRegression.AnR4PointBesideAZoneExportsItsSpacing (SheetsAndLines 3330698)
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -301,7 +304,7 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   regularization-reach-tie-margin-dropped r3-tie-margin-dropped halving-needs-regularization
   r3-finer-sample-not-noted iso-values-not-carried labels-always-four-bytes byte-holds-256
   lost-components-run-stale boundary-triangles-one-side rounds-stop-on-a-high-count
-  calling-thread-waits-unchecked)
+  calling-thread-waits-unchecked r4-finer-sample-not-noted)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -673,8 +676,8 @@ apply_mutation() {
         'm_Sizing.LocalDelta(center)'
       ;;
     r3-finer-sample-not-noted)
-      mutate "$tree/src/DelaunayRefinementMesher.cxx" '        if (action.ballRadius >= m_Sizing.FinestDelta())' \
-        '        if (false)'
+      mutate "$tree/src/DelaunayRefinementMesher.cxx" 'NoteSpacingBesideAZone(action.point, action.ballRadius);' \
+        'static_cast<void>(action.ballRadius);'
       ;;
     halving-needs-regularization)
       mutate "$tree/src/DelaunayRefinementMesher.cxx" '      if (!repaired)
@@ -713,6 +716,10 @@ apply_mutation() {
       ;;
     rounds-stop-on-a-high-count)
       mutate "$tree/src/DelaunayRefinementMesher.cxx" 'else if (places.places.size() > placesBefore)' 'else if (true)'
+      ;;
+    r4-finer-sample-not-noted)
+      mutate "$tree/src/DelaunayRefinementMesher.cxx" 'NoteSpacingBesideAZone(action.point, honoured);' \
+        'static_cast<void>(honoured);'
       ;;
     calling-thread-waits-unchecked)
       mutate "$tree/src/DelaunayRefinementParallel.h" 'while (!othersEnded.wait_for(' 'while (false && !othersEnded.wait_for('

@@ -134,6 +134,18 @@ private:
     }
   }
 
+  /** A vertex at `point` beside a zone's short edges honours only `spacing`, less than the δ there: the exported
+   * sizing says so (LocalSampling::NoteFinerSample). Not below every zone's δ: shorter edges come from R4′'s points
+   * only (σ > 0), which give Lemma 2's spacing up and are not exported. */
+  void
+  NoteSpacingBesideAZone(const Vector3 & point, double spacing)
+  {
+    if (spacing >= m_Sizing.FinestDelta())
+    {
+      m_Sizing.NoteFinerSample(point, spacing);
+    }
+  }
+
   /** What each rule's action does to the mesh: R1 and R3 insert a feature vertex and delete the free vertices
    * near it; R2 inserts its circumcentre, or applies a box rule when that lies on or outside the box; R4 inserts
    * its circumcentre, R4' the best point near it (SliverSplit). Returns whether a vertex was inserted. */
@@ -164,29 +176,21 @@ private:
           return false;
         }
         // Beside a zone, a facet's shortest edge can be R3's threshold, and the ball it splits smaller than the δ
-        // at its centre: the new vertex honours the ball's radius (LocalSampling::NoteFinerSample). A radius below
-        // every zone's δ comes from R4′'s points only (σ > 0), which give Lemma 2's spacing up and are not exported.
-        if (action.ballRadius >= m_Sizing.FinestDelta())
-        {
-          m_Sizing.NoteFinerSample(action.point, action.ballRadius);
-        }
+        // at its centre: the new vertex honours the ball's radius.
+        NoteSpacingBesideAZone(action.point, action.ballRadius);
         return true;
       case Rule::R4: {
         ++m_Statistics.insertionsR4;
         // R4's point is its circumradius from every vertex, and that is ρ × the tetrahedron's shortest edge or more:
-        // beside a zone's short edges, with ρ < 2, it can be below the δ there (Lemma 2's ρδ), and the exported
-        // sizing says so (LocalSampling::NoteFinerSample), even once the zone's own points are gone (the randomized
-        // SheetsAndLines 3330698, ρ = 1: an R4 point 0.98 δ from a feature vertex, every output point at δ). Not
-        // below every zone's δ, as for R3 above: shorter edges come from R4′'s points only.
+        // beside a zone's short edges, with ρ < 2, it can be below the δ there (Lemma 2's ρδ), even once the zone's
+        // own points are gone (the randomized SheetsAndLines 3330698, ρ = 1: an R4 point 0.98 δ from a feature
+        // vertex, every output point at δ).
         const double honoured = std::sqrt(cell->cache.squaredRadius) / std::min(m_Parameters.radiusEdgeBound, 2.0);
         if (!m_State.InsertVertex(action.point, VertexKind::Free, cell))
         {
           return false;
         }
-        if (honoured >= m_Sizing.FinestDelta())
-        {
-          m_Sizing.NoteFinerSample(action.point, honoured);
-        }
+        NoteSpacingBesideAZone(action.point, honoured);
         return true;
       }
       case Rule::R4Dihedral:
