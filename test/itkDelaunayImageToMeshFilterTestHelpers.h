@@ -378,6 +378,45 @@ CountFlatTetrahedra(const dr::TetrahedralMesh & mesh)
   return flatTetrahedra;
 }
 
+/** Whether a tetrahedron of `label` contains `point` (on its boundary included), from the signs of the four volumes
+ * the point makes with its facets: computed here, not with the library's geometry. */
+inline bool
+ATetrahedronOfTheLabelContains(const dr::TetrahedralMesh & mesh, dr::Label label, const dr::Vector3 & point)
+{
+  const auto volume = [](const dr::Vector3 & a, const dr::Vector3 & b, const dr::Vector3 & c, const dr::Vector3 & d) {
+    const double u[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
+    const double v[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
+    const double w[3] = { d[0] - a[0], d[1] - a[1], d[2] - a[2] };
+    return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
+  };
+  for (std::size_t index = 0; index < mesh.tetrahedra.size(); ++index)
+  {
+    if (mesh.tetrahedronLabels[index] != label)
+    {
+      continue;
+    }
+    std::array<dr::Vector3, 4> corners{};
+    for (int corner = 0; corner < 4; ++corner)
+    {
+      corners[corner] = mesh.points[mesh.tetrahedra[index][corner]];
+    }
+    const double whole = volume(corners[0], corners[1], corners[2], corners[3]);
+    bool         inside = whole != 0.0;
+    for (int corner = 0; corner < 4 && inside; ++corner)
+    {
+      std::array<dr::Vector3, 4> withPoint = corners;
+      withPoint[corner] = point;
+      // The same sign as the whole tetrahedron's, or zero: the point is on the facet's inner side.
+      inside = volume(withPoint[0], withPoint[1], withPoint[2], withPoint[3]) * whole >= 0.0;
+    }
+    if (inside)
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
 /** The smallest dihedral angle of the mesh in degrees, computed here from the face normals (the angle at the edge
  * two faces share is 180° minus the angle between their outward normals), not with the library's metric code, which
  * projects the two other corners off each edge: a report or a check that skipped an edge would disagree. */

@@ -46,7 +46,9 @@ namespace
 {
 
 namespace dr = delaunay_refinement;
+using itk::delaunay_image_to_mesh_test::ATetrahedronOfTheLabelContains;
 using itk::delaunay_image_to_mesh_test::MeshType;
+using itk::delaunay_image_to_mesh_test::PhysicalCenterOf;
 using ImageType = itk::Image<uint8_t, 3>;
 using FilterType = itk::DelaunayImageToMeshFilter<ImageType, MeshType>;
 
@@ -84,6 +86,9 @@ NameOf(HostileShape shape)
   return "Unknown";
 }
 
+/** Relative slack for bounds met to the last bits (the angles are computed again from the written points). */
+constexpr double RoundingSlack = 1e-9;
+
 /** The largest voxel spacing: δ runs over 1 to 6 times it. */
 constexpr double LargestSpacing = 1.5;
 
@@ -110,11 +115,13 @@ Fill(ImageType & image, const Block & block)
   }
 }
 
-/** The image of a shape, and the labels of its thick blocks (every one must be in the mesh at every δ). */
+/** The image of a shape, and its thick blocks: each must be in the mesh at every δ, as a tetrahedron of its label
+ * around its centre (a block that holds a ball of diameter δ is not regularised away, whatever else of its label is
+ * meshed). */
 struct HostileImage
 {
   ImageType::Pointer image;
-  std::set<int>      thickLabels;
+  std::vector<Block> thickBlocks;
 };
 
 HostileImage
@@ -129,40 +136,57 @@ MakeHostileImage(HostileShape shape)
   image->Allocate();
   image->FillBuffer(0);
   const Block  left{ { { 3, 3, 3 } }, { { 17, 17, 13 } }, 1 };
-  HostileImage result{ image, { 1 } };
+  HostileImage result{ image, { left } };
   switch (shape)
   {
-    case HostileShape::OneVoxelBridge:
+    case HostileShape::OneVoxelBridge: {
+      const Block right{ { { 20, 3, 3 } }, { { 34, 17, 13 } }, 1 };
       Fill(*image, left);
-      Fill(*image, { { { 20, 3, 3 } }, { { 34, 17, 13 } }, 1 });
+      Fill(*image, right);
       Fill(*image, { { { 17, 9, 7 } }, { { 20, 10, 8 } }, 1 });
+      result.thickBlocks = { left, right };
       break;
+    }
     case HostileShape::OneVoxelSlit:
       Fill(*image, { { { 3, 3, 3 } }, { { 34, 30, 13 } }, 1 });
       Fill(*image, { { { 18, 3, 3 } }, { { 19, 24, 13 } }, 0 });
+      // The two sides of the slit.
+      result.thickBlocks = { { { { 3, 3, 3 } }, { { 18, 24, 13 } }, 1 }, { { { 19, 3, 3 } }, { { 34, 24, 13 } }, 1 } };
       break;
-    case HostileShape::EdgeContact:
+    case HostileShape::EdgeContact: {
+      const Block touching{ { { 17, 17, 3 } }, { { 31, 31, 13 } }, 1 };
       Fill(*image, left);
-      Fill(*image, { { { 17, 17, 3 } }, { { 31, 31, 13 } }, 1 });
+      Fill(*image, touching);
+      result.thickBlocks = { left, touching };
       break;
-    case HostileShape::CornerContact:
+    }
+    case HostileShape::CornerContact: {
+      const Block touching{ { { 17, 17, 13 } }, { { 31, 31, 23 } }, 1 };
       Fill(*image, left);
-      Fill(*image, { { { 17, 17, 13 } }, { { 31, 31, 23 } }, 1 });
+      Fill(*image, touching);
+      result.thickBlocks = { left, touching };
       break;
+    }
     case HostileShape::ThinSheet:
       Fill(*image, left);
       Fill(*image, { { { 17, 3, 7 } }, { { 30, 17, 8 } }, 1 });
       break;
-    case HostileShape::TwoTissuesAlongAnEdge:
+    case HostileShape::TwoTissuesAlongAnEdge: {
+      const Block diagonal{ { { 17, 17, 3 } }, { { 31, 31, 13 } }, 2 };
+      const Block beside{ { { 17, 3, 3 } }, { { 31, 17, 13 } }, 1 };
       Fill(*image, left);
-      Fill(*image, { { { 17, 17, 3 } }, { { 31, 31, 13 } }, 2 });
-      Fill(*image, { { { 17, 3, 3 } }, { { 31, 17, 13 } }, 1 });
-      result.thickLabels = { 1, 2 };
+      Fill(*image, diagonal);
+      Fill(*image, beside);
+      result.thickBlocks = { left, diagonal, beside };
       break;
+    }
     case HostileShape::Speckle: {
+      // The blocks' centres are outside the speckle.
+      const Block second{ { { 20, 3, 3 } }, { { 34, 17, 13 } }, 2 };
+      const Block third{ { { 3, 19, 3 } }, { { 17, 33, 13 } }, 3 };
       Fill(*image, left);
-      Fill(*image, { { { 20, 3, 3 } }, { { 34, 17, 13 } }, 2 });
-      Fill(*image, { { { 3, 19, 3 } }, { { 17, 33, 13 } }, 3 });
+      Fill(*image, second);
+      Fill(*image, third);
       // Interleaved speckle of the three tissues between the blocks, from a fixed linear congruential sequence.
       uint32_t state = 12345u;
       for (int k = 3; k < 16; ++k)
@@ -180,7 +204,7 @@ MakeHostileImage(HostileShape shape)
           }
         }
       }
-      result.thickLabels = { 1, 2, 3 };
+      result.thickBlocks = { left, second, third };
       break;
     }
   }
@@ -198,6 +222,9 @@ MeshedHostileShape(const HostileImage & hostile, double delta)
   return filter;
 }
 
+/** The bounds every mesh keeps with the defaults: radius-edge < ρ, no inverted tetrahedron, boundary angles > 30°,
+ * and the smallest dihedral angle at least σ (the default σ removes slivers), the angle computed from the face
+ * normals here as well as with the library's metric. */
 template <typename TFilter>
 void
 ExpectQualityBounds(const TFilter & filter)
@@ -207,6 +234,10 @@ ExpectQualityBounds(const TFilter & filter)
   EXPECT_LT(quality.maximumRadiusEdgeRatio, filter.GetRadiusEdgeBound());
   EXPECT_EQ(quality.invertedTetrahedra, 0u);
   EXPECT_GT(dr::ComputeBoundaryTopology(mesh).minimumPlanarAngle, 30.0);
+  const double sigma = filter.GetMinimumDihedralAngle();
+  EXPECT_GE(quality.minimumDihedralAngle, sigma * (1.0 - RoundingSlack)) << "sigma " << sigma;
+  EXPECT_GE(itk::delaunay_image_to_mesh_test::SmallestDihedralAngleFromNormals(mesh), sigma * (1.0 - RoundingSlack))
+    << "sigma " << sigma;
 }
 
 /** Expects every tissue's boundary and the union's to be closed 2-manifolds, the edges and vertices counted
@@ -246,10 +277,15 @@ TEST_P(HostileShapes, EveryBoundaryIsAClosedManifoldAndThickBlocksStay)
   const dr::TetrahedralMesh & mesh = filter->GetRefinedMesh();
   ASSERT_FALSE(mesh.tetrahedra.empty());
 
-  const std::set<dr::Label> meshed(mesh.tetrahedronLabels.begin(), mesh.tetrahedronLabels.end());
-  for (const int label : hostile.thickLabels)
+  for (const Block & block : hostile.thickBlocks)
   {
-    EXPECT_TRUE(meshed.count(label)) << "tissue " << label << " holds a block thicker than delta, but is not meshed";
+    const ImageType::IndexType center{ { (block.lower[0] + block.upper[0]) / 2,
+                                         (block.lower[1] + block.upper[1]) / 2,
+                                         (block.lower[2] + block.upper[2]) / 2 } };
+    EXPECT_TRUE(ATetrahedronOfTheLabelContains(mesh, block.label, PhysicalCenterOf(*hostile.image, center)))
+      << "the block of tissue " << static_cast<int>(block.label) << " from voxel " << block.lower[0] << ", "
+      << block.lower[1] << ", " << block.lower[2] << " holds a ball of diameter delta, but no tetrahedron of its "
+      << "label contains its centre";
   }
   ExpectQualityBounds(*filter);
   std::cout << NameOf(shape) << " delta " << delta << ": " << mesh.tetrahedra.size() << " tetrahedra, "
