@@ -174,9 +174,6 @@ MakeImageInSpace(const std::array<SizeValueType, 3> & size, const std::array<Ind
 
 /** Only rounding may eat into a bound that the theory gives exactly. */
 constexpr double RoundingSlack = 1e-9;
-/** The census counts a part's ball up to this fraction below δ / 2 as a diameter of δ, and samples it at its radius
- * (docs/algorithm.md, "Topology", step 4: "Both thresholds count a radius up to 1e-4 below them"). */
-constexpr double CensusTieMargin = 1e-4;
 
 /** How one run of the filter ended. Every value but Unexpected is documented behaviour. */
 enum class Outcome
@@ -1368,21 +1365,15 @@ CheckGuarantees(TFilter & filter, const TImage & image, const FilterSettings & s
                      " deg");
     }
   }
-  // Lemma 2 edge by edge, with the sizing the refinement exported (GetRefinedMesh() has the outputs' points). δ is
-  // halved at most once per level of the opt-in manifold refinement, and once per round of the sampling of thick
-  // parts that had no tetrahedron (the first at the part's largest ball, at least δ / 2 up to the census's tie
-  // margin: docs/algorithm.md, "Topology", step 4, counts a ball up to 1e-4 below δ / 2 as a diameter of δ; found by
-  // the randomized ManyLabels 5062585, a zone at 0.99997 δ / 2).
-  const std::size_t  thickPartRounds = filter.GetRefinementStatistics().thickPartRounds;
-  const unsigned int halvings =
-    std::max<unsigned int>(filter.GetManifoldRefinementLevels(), static_cast<unsigned int>(thickPartRounds));
-  const dr::LocalSizingReport sizing = dr::CheckEdgesAgainstLocalSizing(filter.GetRefinedMesh(),
-                                                                        delta,
-                                                                        rho,
-                                                                        halvings,
-                                                                        !(sigma > 0.0),
-                                                                        RoundingSlack,
-                                                                        thickPartRounds > 0 ? CensusTieMargin : 0.0);
+  // Lemma 2 edge by edge, with the sizing the refinement exported (GetRefinedMesh() has the outputs' points).
+  const dr::LocalSizingReport sizing =
+    dr::CheckEdgesAgainstTheRefinementsSizing(filter.GetRefinedMesh(),
+                                              delta,
+                                              rho,
+                                              sigma,
+                                              filter.GetManifoldRefinementLevels(),
+                                              filter.GetRefinementStatistics().thickPartRounds,
+                                              RoundingSlack);
   for (const std::string & problem : sizing.problems)
   {
     violations.Add(problem);

@@ -141,6 +141,24 @@ CheckEdgesAgainstLocalSizing(const TetrahedralMesh & mesh, double delta, double 
   return report;
 }
 
+/** The census counts a part's ball up to this fraction below δ / 2 as a diameter of δ, and samples it at its radius
+ * (docs/algorithm.md, "Topology", step 4: "Both thresholds count a radius up to 1e-4 below them"). */
+constexpr double CensusTieMargin = 1e-4;
+
+/** CheckEdgesAgainstLocalSizing for a mesh the filter or the core made: δ is halved at most once per level of the
+ * opt-in manifold refinement (`manifoldLevels`), and once per round of the sampling of thick parts that had no
+ * tetrahedron (`thickPartRounds`; the first at the part's largest ball, at least δ / 2 up to the census's tie
+ * margin: docs/algorithm.md, "Topology", step 4; found by the randomized ManyLabels 5062585, a zone at 0.99997 δ / 2).
+ * Feature and free edges are checked with σ = 0 only (R4′ has no bound on them). */
+inline LocalSizingReport
+CheckEdgesAgainstTheRefinementsSizing(const TetrahedralMesh & mesh, double delta, double rho, double sigma,
+                                      unsigned int manifoldLevels, std::size_t thickPartRounds, double roundingSlack)
+{
+  const unsigned int halvings = std::max<unsigned int>(manifoldLevels, static_cast<unsigned int>(thickPartRounds));
+  return CheckEdgesAgainstLocalSizing(
+    mesh, delta, rho, halvings, !(sigma > 0.0), roundingSlack, thickPartRounds > 0 ? CensusTieMargin : 0.0);
+}
+
 } // namespace delaunay_refinement
 
 #endif
