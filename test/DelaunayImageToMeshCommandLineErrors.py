@@ -91,7 +91,8 @@ def error_cases(image, output):
         ([image, mesh, "--report", os.path.join(output, "no-such-directory", "r.json")], "--report: directory '" +
          os.path.join(output, "no-such-directory") + "' does not exist"),
         ([image, mesh, "--labels", "99"], "meshing failed: No voxel of the input is part of the object"),
-        ([image, mesh, "--delta", "1", "--max-vertices", "20"], "meshing failed"),
+        ([image, mesh, "--delta", "1", "--max-vertices", "20"],
+         "meshing failed: Delaunay refinement reached maximumNumberOfVertices = 20 vertices"),
     ]
 
 
