@@ -1289,7 +1289,8 @@ CheckAgainstSegmentation(const TFilter & filter, const FilterSettings & settings
 /** Issue #14: every tissue's boundary and the union's is a closed manifold, counted from the mesh without the
  * library's topology code. Where it is promised (`promised`, IsPromisedManifold) a place is a violation; elsewhere the
  * filter may leave places it could not mend, but it must say so (RefinementStatistics::remainingNonManifoldVertices),
- * never leave them silently. */
+ * never leave them silently, and its count of the vertices it left is at least the non-manifold vertices of any one
+ * boundary. */
 inline void
 CheckManifoldBoundaries(const dr::TetrahedralMesh & mesh, const dr::RefinementStatistics & statistics, bool promised,
                         ViolationList & violations, RunResult & result)
@@ -1297,6 +1298,9 @@ CheckManifoldBoundaries(const dr::TetrahedralMesh & mesh, const dr::RefinementSt
   std::set<dr::Label> boundaries(mesh.tetrahedronLabels.begin(), mesh.tetrahedronLabels.end());
   boundaries.insert(dr::BackgroundLabel);
   std::ostringstream found;
+  // The most non-manifold vertices on one boundary: the filter's count of the vertices it left (each a vertex where
+  // some boundary is not a manifold) cannot be smaller.
+  std::size_t mostVertices = 0;
   for (const dr::Label label : boundaries)
   {
     const dr::NonManifoldCount places =
@@ -1307,6 +1311,7 @@ CheckManifoldBoundaries(const dr::TetrahedralMesh & mesh, const dr::RefinementSt
       found << (label == dr::BackgroundLabel ? std::string(" the union's") : " label " + std::to_string(label) + "'s")
             << " (" << places.edges << " edges, " << places.vertices << " vertices)";
     }
+    mostVertices = std::max(mostVertices, places.vertices);
   }
   result.admittedNonManifoldVertices = statistics.remainingNonManifoldVertices;
   result.promisedManifold = promised;
@@ -1320,6 +1325,13 @@ CheckManifoldBoundaries(const dr::TetrahedralMesh & mesh, const dr::RefinementSt
   else if (result.nonManifoldBoundaries > 0 && result.admittedNonManifoldVertices == 0)
   {
     violations.Add("boundaries not a closed manifold although the filter says it left none:", found.str());
+  }
+  else if (mostVertices > result.admittedNonManifoldVertices)
+  {
+    violations.Add("the filter says it left ",
+                   result.admittedNonManifoldVertices,
+                   " non-manifold vertices, fewer than one boundary has:",
+                   found.str());
   }
 }
 
