@@ -122,6 +122,11 @@
 #                                 the openings was seen after them); run on 2026-12-02 by hand: caught by
 #                                 ParallelPieces.TheCallingThreadChecksWhileTheOthersWork and
 #                                 ParallelPieces.AnAbortSeenWhileWaitingIsRethrown
+#   A report that understates what it left (added 2026-12-02):
+#   remaining-vertices-understated the filter counts at most one non-manifold vertex left, however many there are
+#                                 (the randomized suite had only asked for a count above zero); run on 2026-12-02
+#                                 with "-R RandomizedImages.MeshMeets": caught by the Blobs, SaltAndPepper, ThinImages
+#                                 and Mixed families at their default seeds
 #   r4-finer-sample-not-noted     R4's free vertex beside a zone, closer than the δ there, is exported at that δ (the
 #                                 code before 5cc3390); run on 2026-12-02 by hand: caught by
 #                                 RandomizedRegression.AnR4PointBesideAZoneExportsItsSpacing (SheetsAndLines 3330698)
@@ -304,7 +309,7 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   regularization-reach-tie-margin-dropped r3-tie-margin-dropped halving-needs-regularization
   r3-finer-sample-not-noted iso-values-not-carried labels-always-four-bytes byte-holds-256
   lost-components-run-stale boundary-triangles-one-side rounds-stop-on-a-high-count
-  calling-thread-waits-unchecked r4-finer-sample-not-noted)
+  calling-thread-waits-unchecked r4-finer-sample-not-noted remaining-vertices-understated)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -723,6 +728,11 @@ apply_mutation() {
       ;;
     calling-thread-waits-unchecked)
       mutate "$tree/src/DelaunayRefinementParallel.h" 'while (!othersEnded.wait_for(' 'while (false && !othersEnded.wait_for('
+      ;;
+    remaining-vertices-understated)
+      mutate "$tree/src/DelaunayRefinementMesher.cxx" \
+        'm_Statistics.remainingNonManifoldVertices = places.places.size();' \
+        'm_Statistics.remainingNonManifoldVertices = std::min<std::size_t>(places.places.size(), 1);'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2
