@@ -100,6 +100,15 @@ struct Block
   uint8_t            label;
 };
 
+/** The voxel at the middle of a block (the upper of the two middle ones where its size is even). */
+ImageType::IndexType
+CenterOf(const Block & block)
+{
+  return { { (block.lower[0] + block.upper[0]) / 2,
+             (block.lower[1] + block.upper[1]) / 2,
+             (block.lower[2] + block.upper[2]) / 2 } };
+}
+
 void
 Fill(ImageType & image, const Block & block)
 {
@@ -279,10 +288,7 @@ TEST_P(HostileShapes, EveryBoundaryIsAClosedManifoldAndThickBlocksStay)
 
   for (const Block & block : hostile.thickBlocks)
   {
-    const ImageType::IndexType center{ { (block.lower[0] + block.upper[0]) / 2,
-                                         (block.lower[1] + block.upper[1]) / 2,
-                                         (block.lower[2] + block.upper[2]) / 2 } };
-    EXPECT_TRUE(ATetrahedronOfTheLabelContains(mesh, block.label, PhysicalCenterOf(*hostile.image, center)))
+    EXPECT_TRUE(ATetrahedronOfTheLabelContains(mesh, block.label, PhysicalCenterOf(*hostile.image, CenterOf(block))))
       << "the block of tissue " << static_cast<int>(block.label) << " from voxel " << block.lower[0] << ", "
       << block.lower[1] << ", " << block.lower[2] << " holds a ball of diameter delta, but no tetrahedron of its "
       << "label contains its centre";
@@ -558,8 +564,9 @@ TEST_P(HostileIsoSurfaces, EveryBoundaryIsAClosedManifold)
   using GrayFilterType = itk::DelaunayImageToMeshFilter<GrayImageType, MeshType>;
   const HostileShape shape = std::get<0>(GetParam());
   const double       delta = std::get<1>(GetParam()) * LargestSpacing;
+  const HostileImage hostile = MakeHostileImage(shape);
   auto               filter = GrayFilterType::New();
-  filter->SetInput(GrayImageOf<float>(MakeHostileImage(shape), 0.0, 3.0));
+  filter->SetInput(GrayImageOf<float>(hostile, 0.0, 3.0));
   filter->SetIsoValue(0.0);
   filter->SetSurfaceSamplingDistance(delta);
   filter->Update();
@@ -567,6 +574,13 @@ TEST_P(HostileIsoSurfaces, EveryBoundaryIsAClosedManifold)
   ASSERT_FALSE(mesh.tetrahedra.empty());
   const std::string summary = EveryBoundaryIsAClosedManifold(mesh);
   ExpectQualityBounds(*filter);
+  // Every tissue is inside the iso-surface: each thick block is meshed as its object, label 1.
+  for (const Block & block : hostile.thickBlocks)
+  {
+    EXPECT_TRUE(ATetrahedronOfTheLabelContains(mesh, 1, PhysicalCenterOf(*hostile.image, CenterOf(block))))
+      << "no tetrahedron contains the centre of the block from voxel " << block.lower[0] << ", " << block.lower[1]
+      << ", " << block.lower[2];
+  }
   std::cout << NameOf(shape) << " as an iso-surface, delta " << delta << ": " << mesh.tetrahedra.size()
             << " tetrahedra, " << filter->GetRegularizationReport().changedVoxels << " voxels regularised, "
             << filter->GetNumberOfJoiningVoxels() << " at pinches, " << filter->GetNumberOfLocallyRegularizedVoxels()
