@@ -1335,6 +1335,95 @@ CheckManifoldBoundaries(const dr::TetrahedralMesh & mesh, const dr::RefinementSt
   }
 }
 
+/** How far from a voxel of another label a voxel must be to survive the opening of its label (docs/algorithm.md,
+ * "Topology", step 1): the scale times δ (the one set, or the automatic 4 × the largest spacing) plus half the
+ * smallest spacing, lengthened by the lattice tie margin. */
+template <typename TImage>
+double
+OpeningReach(const TImage & image, const FilterSettings & settings)
+{
+  const auto & spacing = image.GetSpacing();
+  const double delta = settings.surfaceSamplingDistance > 0.0 ? settings.surfaceSamplingDistance
+                                                              : 4.0 * std::max({ spacing[0], spacing[1], spacing[2] });
+  return (settings.regularizationScale * delta + 0.5 * std::min({ spacing[0], spacing[1], spacing[2] })) *
+         (1.0 + dr::LatticeTieMargin);
+}
+
+/** The labels the filter says it meshed (GetObjectLabelImage(), which the checks of the mesh read where the labels
+ * were regularised) against the input's, where the opening alone changed them (no pinch joined, no local round): the
+ * opening keeps every voxel whose distance to every voxel of another label, outside the image included, exceeds its
+ * reach (ContradictsRegularizedAway rests on the same rule), so each such voxel must keep its label, the background's
+ * included. Distances between voxel centres from the index offsets and the spacing (the direction is a rotation). */
+template <typename TFilter, typename TImage>
+void
+CheckVoxelsBeyondTheOpeningsReachKeepTheirLabels(const TFilter & filter, const TImage & image,
+                                                 const FilterSettings & settings, ViolationList & violations)
+{
+  if (filter.GetRegularizationReport().changedVoxels == 0 || filter.GetNumberOfJoiningVoxels() > 0 ||
+      filter.GetNumberOfLocallyRegularizedVoxels() > 0)
+  {
+    return;
+  }
+  const auto & spacing = image.GetSpacing();
+  const double reach = OpeningReach(image, settings) * (1.0 + 1e-9);
+  const auto   region = image.GetBufferedRegion();
+  const auto   labelOf = [&](const typename TImage::IndexType & index) {
+    return region.IsInside(index) ? ObjectLabelOf(static_cast<double>(image.GetPixel(index)), settings)
+                                    : dr::BackgroundLabel;
+  };
+  std::array<long, 3> box{};
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    box[axis] = static_cast<long>(std::ceil(reach / spacing[axis]));
+  }
+  const auto  meshed = Image<dr::Label, 3>::ConstPointer(filter.GetObjectLabelImage());
+  std::size_t changed = 0;
+  std::string first;
+  for (ImageRegionConstIteratorWithIndex<TImage> it(&image, region); !it.IsAtEnd(); ++it)
+  {
+    const auto      index = it.GetIndex();
+    const dr::Label label = labelOf(index);
+    bool            deep = true;
+    for (long dz = -box[2]; dz <= box[2] && deep; ++dz)
+    {
+      for (long dy = -box[1]; dy <= box[1] && deep; ++dy)
+      {
+        for (long dx = -box[0]; dx <= box[0] && deep; ++dx)
+        {
+          const double x = static_cast<double>(dx) * spacing[0];
+          const double y = static_cast<double>(dy) * spacing[1];
+          const double z = static_cast<double>(dz) * spacing[2];
+          auto         other = index;
+          other[0] += dx;
+          other[1] += dy;
+          other[2] += dz;
+          deep = std::sqrt(x * x + y * y + z * z) > reach || labelOf(other) == label;
+        }
+      }
+    }
+    if (!deep)
+    {
+      continue;
+    }
+    typename TImage::PointType point;
+    image.TransformIndexToPhysicalPoint(index, point);
+    Image<dr::Label, 3>::IndexType meshedIndex;
+    const dr::Label                meshedLabel =
+      meshed->TransformPhysicalPointToIndex(point, meshedIndex) ? meshed->GetPixel(meshedIndex) : dr::BackgroundLabel;
+    if (meshedLabel != label && changed++ == 0)
+    {
+      std::ostringstream text;
+      text << "voxel " << index << " of label " << label << ", farther than the opening's reach " << reach
+           << " mm from every other label, has label " << meshedLabel << " in the labels the filter meshed";
+      first = text.str();
+    }
+  }
+  if (changed > 0)
+  {
+    violations.Add(changed, " voxels beyond the opening's reach changed label; the first: ", first);
+  }
+}
+
 /** Every guarantee that holds for the settings, checked on what the filter returned, into `result`. */
 template <typename TFilter, typename TImage>
 void
@@ -1350,6 +1439,7 @@ CheckGuarantees(TFilter & filter, const TImage & image, const FilterSettings & s
 
   CheckWellFormed(mesh, quality, violations);
   CheckOutputsAgree(filter, mesh, violations);
+  CheckVoxelsBeyondTheOpeningsReachKeepTheirLabels(filter, image, settings, violations);
   if (!(quality.maximumRadiusEdgeRatio < rho))
   {
     violations.Add("largest radius-edge ratio ",
@@ -1469,12 +1559,7 @@ template <typename TImage>
 std::string
 ContradictsRegularizedAway(const TImage & image, const FilterSettings & settings)
 {
-  const auto & spacing = image.GetSpacing();
-  // The filter's δ: the one set, or its automatic 4 x the largest spacing.
-  const double delta = settings.surfaceSamplingDistance > 0.0 ? settings.surfaceSamplingDistance
-                                                              : 4.0 * std::max({ spacing[0], spacing[1], spacing[2] });
-  const double reach = (settings.regularizationScale * delta + 0.5 * std::min({ spacing[0], spacing[1], spacing[2] })) *
-                       (1.0 + dr::LatticeTieMargin);
+  const double reach = OpeningReach(image, settings);
   const double thickest = LargestDistanceToAnotherLabel(image, settings);
   if (thickest > reach * (1.0 + 1e-9))
   {
