@@ -131,6 +131,10 @@
 #                                 scale lose voxels the opening must keep; run on 2026-12-02 by hand on seeds
 #                                 900000-900099 of the randomized families: 233 of 900 cases fail, 90 of them by
 #                                 CheckVoxelsBeyondTheOpeningsReachKeepTheirLabels
+#   report-distance-one-direction the report's distance to marching cubes is the mesh-to-surface direction alone (its
+#                                 maximum is the same on the report test's cube); run on 2026-12-02 by hand: caught by
+#                                 QualityReport.DistanceToMarchingCubes (count 120 against 360, mean 0.157 against
+#                                 0.069)
 #   r4-finer-sample-not-noted     R4's free vertex beside a zone, closer than the δ there, is exported at that δ (the
 #                                 code before 5cc3390); run on 2026-12-02 by hand: caught by
 #                                 RandomizedRegression.AnR4PointBesideAZoneExportsItsSpacing (SheetsAndLines 3330698)
@@ -314,7 +318,7 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   r3-finer-sample-not-noted iso-values-not-carried labels-always-four-bytes byte-holds-256
   lost-components-run-stale boundary-triangles-one-side rounds-stop-on-a-high-count
   calling-thread-waits-unchecked r4-finer-sample-not-noted remaining-vertices-understated
-  regularization-double-scale)
+  regularization-double-scale report-distance-one-direction)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -738,6 +742,11 @@ apply_mutation() {
       mutate "$tree/include/itkDelaunayImageToMeshFilter.hxx" \
         '                                   m_RegularizationScale * m_EffectiveSurfaceSamplingDistance,' \
         '                                   2.0 * m_RegularizationScale * m_EffectiveSurfaceSamplingDistance,'
+      ;;
+    report-distance-one-direction)
+      mutate "$tree/src/DelaunayImageToMeshQualityReport.cxx" \
+        '                                     .combined;' \
+        '                                     .fromFirst;'
       ;;
     remaining-vertices-understated)
       mutate "$tree/src/DelaunayRefinementMesher.cxx" \

@@ -242,6 +242,19 @@ TEST(QualityReport, DistanceToMarchingCubes)
   EXPECT_GE(distance.percentile95, distance.mean);
   EXPECT_GE(distance.maximum, distance.percentile95);
   EXPECT_GT(distance.mean, 0.0);
+  // The report gives both directions pooled, each sampled at the smallest voxel spacing: not one direction alone
+  // (whose maximum is the same here, the corners being on the mesh's side), nor another sampling.
+  TetrahedralMesh mesh = KuhnCube(1);
+  AddBoundaryTriangles(mesh);
+  const TriangleSurface  reference = ExtractLabelSurfaces(CubeSegmentation(1));
+  const TwoSidedDistance both =
+    ComputeTwoSidedDistance(mesh.points, mesh.boundaryTriangles, reference.points, reference.triangles, 0.5);
+  ASSERT_GT(both.fromFirst.count, 0u);
+  ASSERT_GT(both.fromSecond.count, 0u);
+  EXPECT_EQ(distance.count, both.fromFirst.count + both.fromSecond.count);
+  EXPECT_NE(both.fromFirst.mean, both.fromSecond.mean);
+  EXPECT_EQ(distance.mean, both.combined.mean);
+  EXPECT_EQ(distance.percentile95, both.combined.percentile95);
 }
 
 TEST(QualityReport, DistanceSkippedOnRequestAndNothingElse)
