@@ -135,6 +135,9 @@
 #                                 maximum is the same on the report test's cube); run on 2026-12-02 by hand: caught by
 #                                 QualityReport.DistanceToMarchingCubes (count 120 against 360, mean 0.157 against
 #                                 0.069)
+#   interface-tags-shifted        the interface tags start one past where the format's documentation puts them (still
+#                                 distinct from every tissue label); run on 2026-12-02 by hand: caught by
+#                                 DelaunayImageToMeshWriters.GmshReadBackByMeshio and MeditReadBackByMeshio
 #   r4-finer-sample-not-noted     R4's free vertex beside a zone, closer than the δ there, is exported at that δ (the
 #                                 code before 5cc3390); run on 2026-12-02 by hand: caught by
 #                                 RandomizedRegression.AnR4PointBesideAZoneExportsItsSpacing (SheetsAndLines 3330698)
@@ -318,7 +321,7 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   r3-finer-sample-not-noted iso-values-not-carried labels-always-four-bytes byte-holds-256
   lost-components-run-stale boundary-triangles-one-side rounds-stop-on-a-high-count
   calling-thread-waits-unchecked r4-finer-sample-not-noted remaining-vertices-understated
-  regularization-double-scale report-distance-one-direction)
+  regularization-double-scale report-distance-one-direction interface-tags-shifted)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -747,6 +750,10 @@ apply_mutation() {
       mutate "$tree/src/DelaunayImageToMeshQualityReport.cxx" \
         '                                     .combined;' \
         '                                     .fromFirst;'
+      ;;
+    interface-tags-shifted)
+      mutate "$tree/src/DelaunayImageToMeshWriters.cxx" \
+        'nextTag = std::max(largestLabel, BackgroundLabel) + 1;' 'nextTag = std::max(largestLabel, BackgroundLabel) + 2;'
       ;;
     remaining-vertices-understated)
       mutate "$tree/src/DelaunayRefinementMesher.cxx" \

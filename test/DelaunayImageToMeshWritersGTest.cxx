@@ -327,6 +327,25 @@ InterfaceTagsSeen(const TetrahedralMesh & mesh, const std::vector<std::pair<Tria
   {
     EXPECT_TRUE(tags.insert(pairAndTag.second).second) << "interface tag " << pairAndTag.second << " reused";
   }
+  // The documented numbering (DelaunayImageToMeshWriters.h): the largest positive tetrahedron label (0 if none) plus
+  // the pair's rank among the mesh's distinct pairs in lexicographic order, 1 for the first; readers of one format
+  // rely on it as well as on the other's agreeing.
+  const std::set<LabelPair> pairs(mesh.boundaryTriangleLabels.begin(), mesh.boundaryTriangleLabels.end());
+  Label                     largest = 0;
+  for (const Label label : mesh.tetrahedronLabels)
+  {
+    largest = std::max(largest, label);
+  }
+  Label expected = largest;
+  for (const LabelPair & pair : pairs)
+  {
+    ++expected;
+    const auto found = tagOfPair.find(pair);
+    if (found != tagOfPair.end())
+    {
+      EXPECT_EQ(found->second, expected) << "the interface tag of labels " << pair[0] << " and " << pair[1];
+    }
+  }
   return tagOfPair;
 }
 
