@@ -30,7 +30,7 @@ import numpy
 import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
-from DelaunayImageToMeshCommandLineTesting import check, mesh_and_report
+from DelaunayImageToMeshCommandLineTesting import check, mesh_and_report, remove_if_present
 
 SIZE = (640, 480)
 
@@ -74,6 +74,7 @@ def main(program, image, examples, output):
     mesh, _ = mesh_and_report(program, image, output, "pictures", options=["--delta", "2"])
     report = os.path.join(output, "pictures.json")
     surface, cut, histogram = (os.path.join(output, name) for name in ("surface.png", "cut.png", "histogram.png"))
+    remove_if_present(surface, cut, histogram)
     # The balls' centres lie on a line along x, so a plane across y cuts both.
     run_script([sys.executable, os.path.join(examples, "render_mesh.py"), mesh, "--surface", surface, "--cut", cut,
                 "--cut-axis", "y", "--size", str(SIZE[0]), str(SIZE[1])], "render_mesh.py")

@@ -175,6 +175,10 @@ def size_normalised(row):
 def mesh_ours(program, image, delta, directory, name, options=()):
     path = os.path.join(directory, f"{name}-{delta}.vtu")
     report_path = os.path.join(directory, f"{name}-{delta}.json")
+    # The output directory outlives the run: the files read below must be this run's.
+    for stale in (path, report_path):
+        if os.path.exists(stale):
+            os.remove(stale)
     run([program, image, path, "--delta", str(delta), "--quiet", "--distance", "--report", report_path,
          *options])
     with open(report_path) as stream:
