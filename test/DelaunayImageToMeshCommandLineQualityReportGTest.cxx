@@ -462,7 +462,8 @@ TEST(QualityReport, JsonRecordsEveryParameterAndWhatTheTopologyStepsDid)
   report.run.mergeLabels = true;
   report.run.maximumNumberOfVertices = 123456;
   TopologyRun & topology = report.run.topology;
-  // Each value distinct, so that a key reading another member shows.
+  // Each number distinct, so that a key reading another member shows; the four flags, which two values cannot keep
+  // apart, are set again below so that each one's pair of values differs from every other's.
   topology = { 0.25, true, 11, false, 12, 13, 14, 15, true, false, 16, 3, 17 };
   nlohmann::ordered_json         json = JsonOf(report);
   const nlohmann::ordered_json & parameters = json["parameters"];
@@ -484,6 +485,15 @@ TEST(QualityReport, JsonRecordsEveryParameterAndWhatTheTopologyStepsDid)
   EXPECT_EQ(done["budget_reached"], true);
   EXPECT_EQ(done["thick_parts_refined"], 16);
   EXPECT_EQ(done["manifold_refinement_rounds"], 17);
+  // The flags again: join, relabel, budget and refine are (true, false, true, false) above and (true, true, false,
+  // false) here.
+  topology.relabelNonManifoldPlaces = true;
+  topology.budgetReached = false;
+  json = JsonOf(report);
+  EXPECT_EQ(json["parameters"]["join_diagonal_voxels"], true);
+  EXPECT_EQ(json["parameters"]["relabel_non_manifold_places"], true);
+  EXPECT_EQ(json["topology"]["budget_reached"], false);
+  EXPECT_EQ(json["parameters"]["refine_thick_parts"], false);
 
   // Every label (none selected), or an iso-value instead of labels.
   report.run.selectedLabels.clear();
