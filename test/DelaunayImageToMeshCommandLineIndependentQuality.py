@@ -225,7 +225,10 @@ def check_report(path, report, ratios, dihedral, planar):
     check(abs(quality["max_radius_edge_ratio"] - ratios.max()) <= REPORT_RATIO_TOLERANCE * ratios.max(),
           f"{path}: the report's max_radius_edge_ratio is {quality['max_radius_edge_ratio']}, the mesh's "
           f"{ratios.max()}")
-    for threshold, count in quality["tetrahedra_below_dihedral_deg"].items():
+    counts = quality["tetrahedra_below_dihedral_deg"]
+    check(sorted(float(threshold) for threshold in counts) == [5.0, 10.0, 15.0],
+          f"{path}: the report counts tetrahedra below {sorted(counts)} degrees, not below 5, 10 and 15")
+    for threshold, count in counts.items():
         below = int(numpy.count_nonzero(smallest < float(threshold)))
         check(count == below, f"{path}: the report counts {count} tetrahedra below {threshold} degrees, the mesh has "
               f"{below}")
