@@ -1349,21 +1349,14 @@ OpeningReach(const TImage & image, const FilterSettings & settings)
          (1.0 + dr::LatticeTieMargin);
 }
 
-/** The labels the filter says it meshed (GetObjectLabelImage(), which the checks of the mesh read where the labels
- * were regularised) against the input's, where the opening alone changed them (no pinch joined, no local round): the
- * opening keeps every voxel whose distance to every voxel of another label, outside the image included, exceeds its
- * reach (ContradictsRegularizedAway rests on the same rule), so each such voxel must keep its label, the background's
- * included. Distances between voxel centres from the index offsets and the spacing (the direction is a rotation). */
-template <typename TFilter, typename TImage>
+/** Calls visit(index, label) for every voxel of `image` whose voxels within the opening's reach (OpeningReach, up
+ * to rounding) all carry its label (ObjectLabelOf; outside the image, the background): the voxels the opening keeps,
+ * whatever else it removes. Distances between voxel centres from the index offsets and the spacing (the direction is
+ * a rotation); the offsets within the reach are listed once. */
+template <typename TImage, typename TVisit>
 void
-CheckVoxelsBeyondTheOpeningsReachKeepTheirLabels(const TFilter & filter, const TImage & image,
-                                                 const FilterSettings & settings, ViolationList & violations)
+ForEachVoxelBeyondTheOpeningsReach(const TImage & image, const FilterSettings & settings, TVisit && visit)
 {
-  if (filter.GetRegularizationReport().changedVoxels == 0 || filter.GetNumberOfJoiningVoxels() > 0 ||
-      filter.GetNumberOfLocallyRegularizedVoxels() > 0)
-  {
-    return;
-  }
   const auto & spacing = image.GetSpacing();
   const double reach = OpeningReach(image, settings) * (1.0 + 1e-9);
   const auto   region = image.GetBufferedRegion();
@@ -1376,35 +1369,54 @@ CheckVoxelsBeyondTheOpeningsReachKeepTheirLabels(const TFilter & filter, const T
   {
     box[axis] = static_cast<long>(std::ceil(reach / spacing[axis]));
   }
-  const auto  meshed = Image<dr::Label, 3>::ConstPointer(filter.GetObjectLabelImage());
-  std::size_t changed = 0;
-  std::string first;
+  std::vector<typename TImage::OffsetType> withinReach;
+  for (long dz = -box[2]; dz <= box[2]; ++dz)
+  {
+    for (long dy = -box[1]; dy <= box[1]; ++dy)
+    {
+      for (long dx = -box[0]; dx <= box[0]; ++dx)
+      {
+        const double x = static_cast<double>(dx) * spacing[0];
+        const double y = static_cast<double>(dy) * spacing[1];
+        const double z = static_cast<double>(dz) * spacing[2];
+        if (!(std::sqrt(x * x + y * y + z * z) > reach))
+        {
+          withinReach.push_back({ { dx, dy, dz } });
+        }
+      }
+    }
+  }
   for (ImageRegionConstIteratorWithIndex<TImage> it(&image, region); !it.IsAtEnd(); ++it)
   {
     const auto      index = it.GetIndex();
     const dr::Label label = labelOf(index);
-    bool            deep = true;
-    for (long dz = -box[2]; dz <= box[2] && deep; ++dz)
+    if (std::all_of(withinReach.begin(), withinReach.end(), [&](const typename TImage::OffsetType & offset) {
+          return labelOf(index + offset) == label;
+        }))
     {
-      for (long dy = -box[1]; dy <= box[1] && deep; ++dy)
-      {
-        for (long dx = -box[0]; dx <= box[0] && deep; ++dx)
-        {
-          const double x = static_cast<double>(dx) * spacing[0];
-          const double y = static_cast<double>(dy) * spacing[1];
-          const double z = static_cast<double>(dz) * spacing[2];
-          auto         other = index;
-          other[0] += dx;
-          other[1] += dy;
-          other[2] += dz;
-          deep = std::sqrt(x * x + y * y + z * z) > reach || labelOf(other) == label;
-        }
-      }
+      visit(index, label);
     }
-    if (!deep)
-    {
-      continue;
-    }
+  }
+}
+
+/** The labels the filter says it meshed (GetObjectLabelImage(), which the checks of the mesh read where the labels
+ * were regularised) against the input's, where the opening alone changed them (no pinch joined, no local round): the
+ * opening keeps every voxel beyond its reach from every voxel of another label (ContradictsRegularizedAway rests on
+ * the same rule), so each such voxel must keep its label, the background's included. */
+template <typename TFilter, typename TImage>
+void
+CheckVoxelsBeyondTheOpeningsReachKeepTheirLabels(const TFilter & filter, const TImage & image,
+                                                 const FilterSettings & settings, ViolationList & violations)
+{
+  if (filter.GetRegularizationReport().changedVoxels == 0 || filter.GetNumberOfJoiningVoxels() > 0 ||
+      filter.GetNumberOfLocallyRegularizedVoxels() > 0)
+  {
+    return;
+  }
+  const auto  meshed = Image<dr::Label, 3>::ConstPointer(filter.GetObjectLabelImage());
+  std::size_t changed = 0;
+  std::string first;
+  ForEachVoxelBeyondTheOpeningsReach(image, settings, [&](const typename TImage::IndexType & index, dr::Label label) {
     typename TImage::PointType point;
     image.TransformIndexToPhysicalPoint(index, point);
     Image<dr::Label, 3>::IndexType meshedIndex;
@@ -1413,11 +1425,12 @@ CheckVoxelsBeyondTheOpeningsReachKeepTheirLabels(const TFilter & filter, const T
     if (meshedLabel != label && changed++ == 0)
     {
       std::ostringstream text;
-      text << "voxel " << index << " of label " << label << ", farther than the opening's reach " << reach
-           << " mm from every other label, has label " << meshedLabel << " in the labels the filter meshed";
+      text << "voxel " << index << " of label " << label << ", beyond the opening's reach "
+           << OpeningReach(image, settings) << " mm from every other label, has label " << meshedLabel
+           << " in the labels the filter meshed";
       first = text.str();
     }
-  }
+  });
   if (changed > 0)
   {
     violations.Add(changed, " voxels beyond the opening's reach changed label; the first: ", first);
@@ -1505,51 +1518,6 @@ CheckGuarantees(TFilter & filter, const TImage & image, const FilterSettings & s
   result.smallestDihedralAngle = quality.minimumDihedralAngle;
 }
 
-/** The largest distance from an object voxel centre to the centre of a voxel of another label, outside the image
- * included (the filter pads the image with background), by brute force, with the labels the filter meshes
- * (ObjectLabelOf: merged labels count as one, unselected ones as background). */
-template <typename TImage>
-double
-LargestDistanceToAnotherLabel(const TImage & image, const FilterSettings & settings)
-{
-  auto padded = image.GetBufferedRegion();
-  padded.PadByRadius(1);
-  std::vector<std::pair<dr::Vector3, dr::Label>> voxels;
-  for (auto index = padded.GetIndex(); index[2] <= padded.GetUpperIndex()[2]; ++index[2])
-  {
-    for (index[1] = padded.GetIndex()[1]; index[1] <= padded.GetUpperIndex()[1]; ++index[1])
-    {
-      for (index[0] = padded.GetIndex()[0]; index[0] <= padded.GetUpperIndex()[0]; ++index[0])
-      {
-        const dr::Label            label = image.GetBufferedRegion().IsInside(index)
-                                             ? ObjectLabelOf(static_cast<double>(image.GetPixel(index)), settings)
-                                             : dr::BackgroundLabel;
-        typename TImage::PointType point;
-        image.TransformIndexToPhysicalPoint(index, point);
-        voxels.emplace_back(dr::Vector3{ { point[0], point[1], point[2] } }, label);
-      }
-    }
-  }
-  double largest = 0.0;
-  for (const auto & inside : voxels)
-  {
-    if (inside.second == dr::BackgroundLabel)
-    {
-      continue;
-    }
-    double nearest = std::numeric_limits<double>::infinity();
-    for (const auto & other : voxels)
-    {
-      if (other.second != inside.second)
-      {
-        nearest = std::min(nearest, dr::Distance(inside.first, other.first));
-      }
-    }
-    largest = std::max(largest, nearest);
-  }
-  return largest;
-}
-
 /** Whether "every part thinner than the regularisation scale" may be the outcome: the opening keeps every voxel whose
  * nearest voxel of another label is farther than its reach (RegularizationScale x δ + half the smallest spacing,
  * lengthened by LatticeTieMargin, as the opening's own: a voxel at a lattice distance equal to the reach is within it
@@ -1559,14 +1527,17 @@ template <typename TImage>
 std::string
 ContradictsRegularizedAway(const TImage & image, const FilterSettings & settings)
 {
-  const double reach = OpeningReach(image, settings);
-  const double thickest = LargestDistanceToAnotherLabel(image, settings);
-  if (thickest > reach * (1.0 + 1e-9))
-  {
-    return "'regularised away' although a voxel lies " + std::to_string(thickest) + " mm > its reach " +
-           std::to_string(reach) + " mm from every other label";
-  }
-  return {};
+  std::string contradiction;
+  ForEachVoxelBeyondTheOpeningsReach(image, settings, [&](const typename TImage::IndexType & index, dr::Label label) {
+    if (label != dr::BackgroundLabel && contradiction.empty())
+    {
+      std::ostringstream text;
+      text << "'regularised away' although voxel " << index << " of label " << label << " lies beyond its reach "
+           << OpeningReach(image, settings) << " mm from every other label";
+      contradiction = text.str();
+    }
+  });
+  return contradiction;
 }
 
 /** Runs `filter` on `image` with `settings`, and sorts the result. A ProcessAborted caused by the time limit
