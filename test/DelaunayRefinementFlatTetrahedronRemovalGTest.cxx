@@ -23,12 +23,14 @@
 // from the coordinates.
 
 #include "DelaunayRefinementFlatTetrahedronRemoval.h"
+#include "DelaunayRefinementIndependentAngles.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <vector>
 
@@ -74,12 +76,13 @@ enum Corner : uint32_t
 };
 
 /** The square A B C D on the unit circle of z = 0, split by A C above (apex at z = 1) and by B D below (z = -1),
- * and the flat tetrahedron A B C D, each tetrahedron with positive volume. */
+ * and the flat tetrahedron A B C D, each tetrahedron with positive volume; with `cornerCX` above -1, C moves along
+ * the x axis towards the centre and the square becomes a kite. */
 dr::TetrahedralMesh
-OctahedronWithAFlatTetrahedron()
+OctahedronWithAFlatTetrahedron(double cornerCX = -1.0)
 {
   dr::TetrahedralMesh mesh;
-  mesh.points = { { { 1.0, 0.0, 0.0 } },  { { 0.0, 1.0, 0.0 } }, { { -1.0, 0.0, 0.0 } },
+  mesh.points = { { { 1.0, 0.0, 0.0 } },  { { 0.0, 1.0, 0.0 } }, { { cornerCX, 0.0, 0.0 } },
                   { { 0.0, -1.0, 0.0 } }, { { 0.0, 0.0, 1.0 } }, { { 0.0, 0.0, -1.0 } } };
   mesh.pointKinds.assign(mesh.points.size(), dr::VertexKind::Free);
   mesh.tetrahedra = { { A, B, C, D }, { A, B, C, Above }, { A, C, D, Above }, { A, B, D, Below }, { B, C, D, Below } };
@@ -301,6 +304,167 @@ TEST(FlatTetrahedronRemoval, FlipsTheDiagonalOfAnInterface)
   }
   std::sort(sorted.begin(), sorted.end());
   EXPECT_EQ(sorted, (std::vector<std::array<uint32_t, 3>>{ { A, B, D }, { B, C, D } }));
+}
+
+/** Tissue 2 down to z = -0.5, tissue 1 below: the circumcentres of the tetrahedra below the square are in tissue 2. */
+class TissueTwoDownToBelowTheSquare : public TissueEverywhere
+{
+public:
+  dr::Label
+  LabelAt(const dr::Vector3 & point) const override
+  {
+    return point[2] >= -0.5 ? 2 : 1;
+  }
+};
+
+TEST(FlatTetrahedronRemoval, FlipsNoDiagonalThatWouldMakeANarrowInterfaceTriangle)
+{
+  // The same interface on a kite: C at (-0.2, 0, 0). Removing B D inside tissue 1 is refused (the new tetrahedra's
+  // circumcentres are in tissue 2). The flip would make the interface triangles A B D (angles 45°, 45°, 90°) and
+  // B C D, whose angles at B and D are atan(0.2) = 11.3°: below R3's 30°, so the flat tetrahedron stays (later steps
+  // deal with it) and no interface triangle gets an angle of 30° or less.
+  const TissueTwoDownToBelowTheSquare oracle;
+  dr::TetrahedralMesh                 mesh = OctahedronWithAFlatTetrahedron(-0.2);
+  mesh.tetrahedronLabels = { 1, 2, 2, 1, 1 };
+  mesh.boundaryTriangles = { { A, B, C }, { A, C, D } };
+  mesh.boundaryTriangleLabels = { { 1, 2 }, { 1, 2 } };
+  const dr::TetrahedralMesh before = mesh;
+
+  // ρ large: only the interface triangles' angles can refuse the flip.
+  EXPECT_EQ(dr::detail::FlatTetrahedronRemoval(oracle, 100.0).Remove(mesh), 0u);
+
+  EXPECT_EQ(mesh.tetrahedra, before.tetrahedra);
+  for (const auto & triangle : mesh.boundaryTriangles)
+  {
+    EXPECT_GT(dr::SmallestPlanarAngle(mesh.points[triangle[0]], mesh.points[triangle[1]], mesh.points[triangle[2]]),
+              30.0);
+  }
+}
+
+/** The ring of tetrahedra around the z axis's edge from (0, 0, 1) (vertex 0) to (0, 0, -1) (vertex 1) over `link`,
+ * a polygon of z = 0 around the axis in counter-clockwise order (vertices 2, 3, ...): one tetrahedron of tissue 1 per
+ * side of the polygon, each with positive volume. */
+dr::TetrahedralMesh
+RingAroundTheZAxis(const std::vector<dr::Vector3> & link)
+{
+  dr::TetrahedralMesh mesh;
+  mesh.points = { { { 0.0, 0.0, 1.0 } }, { { 0.0, 0.0, -1.0 } } };
+  mesh.points.insert(mesh.points.end(), link.begin(), link.end());
+  mesh.pointKinds.assign(mesh.points.size(), dr::VertexKind::Free);
+  const auto corners = static_cast<uint32_t>(link.size());
+  for (uint32_t side = 0; side < corners; ++side)
+  {
+    std::array<uint32_t, 4> tetrahedron{ 0, 1, 2 + side, 2 + (side + 1) % corners };
+    if (SignedVolumeOf(mesh, tetrahedron) < 0.0)
+    {
+      std::swap(tetrahedron[2], tetrahedron[3]);
+    }
+    mesh.tetrahedra.push_back(tetrahedron);
+  }
+  mesh.tetrahedronLabels.assign(mesh.tetrahedra.size(), 1);
+  return mesh;
+}
+
+/** Twice the signed area of the triangle (p, q, r) of z = 0: positive when counter-clockwise. */
+double
+TwiceSignedArea(const dr::Vector3 & p, const dr::Vector3 & q, const dr::Vector3 & r)
+{
+  return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+}
+
+/** The largest smallest dihedral angle, in degrees, over the ways to fill the ring of RingAroundTheZAxis(link)
+ * without the edge: every triangulation of the link polygon by diagonals whose triangles are all counter-clockwise
+ * (inside the polygon), each joined to both ends of the edge. Found by trying them all, with this file's own
+ * enumeration and the tests' own angles. */
+double
+BestSmallestAngleWithoutTheEdge(const std::vector<dr::Vector3> & link)
+{
+  double                                                                      best = -1.0;
+  std::vector<std::array<std::size_t, 3>>                                     triangles;
+  const std::function<void(std::vector<std::pair<std::size_t, std::size_t>>)> fill =
+    [&](std::vector<std::pair<std::size_t, std::size_t>> chains) {
+      while (!chains.empty() && chains.back().second - chains.back().first < 2)
+      {
+        chains.pop_back();
+      }
+      if (chains.empty())
+      {
+        dr::TetrahedralMesh filled;
+        filled.points = { { { 0.0, 0.0, 1.0 } }, { { 0.0, 0.0, -1.0 } } };
+        filled.points.insert(filled.points.end(), link.begin(), link.end());
+        for (const auto & triangle : triangles)
+        {
+          for (const uint32_t apex : { 0U, 1U })
+          {
+            filled.tetrahedra.push_back({ apex,
+                                          2 + static_cast<uint32_t>(triangle[0]),
+                                          2 + static_cast<uint32_t>(triangle[1]),
+                                          2 + static_cast<uint32_t>(triangle[2]) });
+          }
+        }
+        best = std::max(best, dr::SmallestDihedralAngleFromNormals(filled));
+        return;
+      }
+      const auto [first, last] = chains.back();
+      chains.pop_back();
+      for (std::size_t apex = first + 1; apex < last; ++apex)
+      {
+        if (!(TwiceSignedArea(link[first], link[apex], link[last]) > 1e-9))
+        {
+          continue;
+        }
+        triangles.push_back({ first, apex, last });
+        std::vector<std::pair<std::size_t, std::size_t>> next = chains;
+        next.emplace_back(first, apex);
+        next.emplace_back(apex, last);
+        fill(next);
+        triangles.pop_back();
+      }
+    };
+  fill({ { 0, link.size() - 1 } });
+  return best;
+}
+
+/** Rings of 6 and 7 (the largest the removal tries) whose link's first two corners are on one ray from the axis:
+ * their tetrahedron with the edge is flat. The removal must take it out, and of the polygon's triangulations take the
+ * one whose smallest dihedral angle is largest (on these links the first triangulation that fits is not it). */
+TEST(FlatTetrahedronRemoval, TakesTheRingsTriangulationWithTheLargestSmallestAngle)
+{
+  const std::vector<std::vector<dr::Vector3>> links = {
+    { { { 1.0, 0.0, 0.0 } },
+      { { 1.71937, 0.0, 0.0 } },
+      { { 0.771202, 0.955329, 0.0 } },
+      { { -0.968254, 0.353713, 0.0 } },
+      { { -1.17337, -0.71553, 0.0 } },
+      { { 0.598918, -1.25882, 0.0 } } },
+    { { { 1.0, 0.0, 0.0 } },
+      { { 1.7, 0.0, 0.0 } },
+      { { 0.6, 1.04, 0.0 } },
+      { { -0.4, 0.69, 0.0 } },
+      { { -1.4, 0.0, 0.0 } },
+      { { -0.45, -0.78, 0.0 } },
+      { { 0.65, -1.13, 0.0 } } },
+  };
+  const TissueEverywhere oracle;
+  for (const auto & link : links)
+  {
+    dr::TetrahedralMesh mesh = RingAroundTheZAxis(link);
+    ASSERT_NEAR(SignedVolumeOf(mesh, mesh.tetrahedra[0]), 0.0, 1e-15) << "the first tetrahedron is flat";
+    const double best = BestSmallestAngleWithoutTheEdge(link);
+    ASSERT_GT(best, 0.0) << "some triangulation fills the ring";
+    double twiceArea = 0.0;
+    for (std::size_t corner = 0; corner < link.size(); ++corner)
+    {
+      twiceArea += TwiceSignedArea({ { 0.0, 0.0, 0.0 } }, link[corner], link[(corner + 1) % link.size()]);
+    }
+
+    // ρ large: every triangulation that fills the ring keeps the radius-edge bound.
+    EXPECT_EQ(dr::detail::FlatTetrahedronRemoval(oracle, 100.0).Remove(mesh), 1u) << link.size() << " corners";
+
+    // Two pyramids of height 1 over the polygon, and their 2 × corners faces.
+    ExpectFilledOnce(mesh, 1e-3, 2.0 * (twiceArea / 2.0) / 3.0, 2 * static_cast<int>(link.size()));
+    EXPECT_NEAR(dr::SmallestDihedralAngleFromNormals(mesh), best, 1e-9) << link.size() << " corners";
+  }
 }
 
 } // namespace

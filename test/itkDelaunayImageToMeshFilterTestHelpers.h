@@ -25,6 +25,7 @@
 // fuzzer include it too.
 
 #include "DelaunayImageToMeshSurfaceExtraction.h"
+#include "DelaunayRefinementIndependentAngles.h"
 #include "DelaunayRefinementMeshQuality.h"
 #include "itkDefaultStaticMeshTraits.h"
 #include "itkImage.h"
@@ -417,54 +418,7 @@ ATetrahedronOfTheLabelContains(const dr::TetrahedralMesh & mesh, dr::Label label
   return false;
 }
 
-/** The smallest dihedral angle of the mesh in degrees, computed here from the face normals (the angle at the edge
- * two faces share is 180° minus the angle between their outward normals), not with the library's metric code, which
- * projects the two other corners off each edge: a report or a check that skipped an edge would disagree. */
-inline double
-SmallestDihedralAngleFromNormals(const dr::TetrahedralMesh & mesh)
-{
-  using Vector = std::array<double, 3>;
-  const auto difference = [](const Vector & a, const Vector & b) {
-    return Vector{ a[0] - b[0], a[1] - b[1], a[2] - b[2] };
-  };
-  const auto cross = [](const Vector & a, const Vector & b) {
-    return Vector{ a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0] };
-  };
-  const auto dot = [](const Vector & a, const Vector & b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
-  // Each face's corners ordered so that the normals all point out of the tetrahedron, or all into it when it is
-  // negatively oriented: the angle between two of them is the same either way.
-  constexpr int faces[4][3] = { { 1, 2, 3 }, { 0, 3, 2 }, { 0, 1, 3 }, { 0, 2, 1 } };
-  double        smallest = 180.0;
-  for (const auto & tetrahedron : mesh.tetrahedra)
-  {
-    std::array<Vector, 4> corner{};
-    for (int k = 0; k < 4; ++k)
-    {
-      corner[k] = mesh.points[tetrahedron[k]];
-    }
-    std::array<Vector, 4> normals{};
-    for (int face = 0; face < 4; ++face)
-    {
-      const Vector & a = corner[faces[face][0]];
-      Vector         normal = cross(difference(corner[faces[face][1]], a), difference(corner[faces[face][2]], a));
-      const double   length = std::sqrt(dot(normal, normal));
-      for (double & component : normal)
-      {
-        component /= length;
-      }
-      normals[face] = normal;
-    }
-    for (int first = 0; first < 4; ++first)
-    {
-      for (int second = first + 1; second < 4; ++second)
-      {
-        const double cosine = std::clamp(-dot(normals[first], normals[second]), -1.0, 1.0);
-        smallest = std::min(smallest, std::acos(cosine) * 180.0 / 3.14159265358979323846);
-      }
-    }
-  }
-  return smallest;
-}
+using delaunay_refinement::SmallestDihedralAngleFromNormals;
 
 } // namespace delaunay_image_to_mesh_test
 } // namespace itk
