@@ -207,6 +207,23 @@ TEST(RemoveVoxelPinches, TwoTissuesAcrossAnEdgeAreSettledByTheLargerOne)
   EXPECT_EQ(grid.At(2, 2, 1), 1);
 }
 
+TEST(RemoveVoxelPinches, TwoTissuesOfOneSizeAcrossAnEdgeAreSettledByTheLargerLabel)
+{
+  // Tissues 1 and 2, two voxels each, alternate around the edge at x = 2, y = 2: of two tissues of one size the
+  // smaller label gives way (ties by value), whichever comes first in the buffer, so the result is the same whatever
+  // the labels' order in the image.
+  Grid grid = EmptyGrid({ { 4, 4, 3 } });
+  grid.At(1, 1, 1) = 1;
+  grid.At(2, 2, 1) = 1;
+  grid.At(2, 1, 1) = 2;
+  grid.At(1, 2, 1) = 2;
+  EXPECT_GT(RemoveVoxelPinches(grid.labels.data(), grid.size), 0u);
+  EXPECT_EQ(CountPinches(grid), 0u);
+  EXPECT_EQ(grid.At(2, 1, 1), 2);
+  EXPECT_EQ(grid.At(1, 2, 1), 2);
+  EXPECT_EQ(grid.At(1, 1, 1), 2) << "the smaller label gives way";
+}
+
 TEST(RemoveVoxelPinches, ADiagonalStaircaseBecomesFaceConnected)
 {
   Grid grid = EmptyGrid({ { 9, 9, 3 } });
