@@ -24,11 +24,13 @@
 #include "itkImageFileReader.h"
 #include "itkImageIOFactory.h"
 #include "itkImageSeriesReader.h"
+#include "vnl/algo/vnl_determinant.h"
 #if DelaunayImageToMesh_READS_DICOM
 #  include "itkGDCMImageIO.h"
 #  include "itkGDCMSeriesFileNames.h"
 #endif
 
+#include <cmath>
 #include <filesystem>
 #include <ostream>
 #include <regex>
@@ -77,6 +79,38 @@ CheckThreeDimensional(const std::string & path, const itk::ImageIOBase & io)
   }
 }
 
+/** The direction of a file's first three axes, as the IO read it (direction cosines are the matrix's columns).
+ * ITK 5.2's ImageFileReader gives a file of more dimensions than the image the identity instead (it takes the IO's
+ * default direction), which would move and turn a 4-D MetaImage or NRRD file of one time point in physical space. */
+template <typename TImage>
+typename TImage::DirectionType
+DirectionOfTheFirstThreeAxes(const std::string & path, const itk::ImageIOBase & io)
+{
+  typename TImage::DirectionType direction;
+  for (unsigned int column = 0; column < 3; ++column)
+  {
+    const std::vector<double> axis = io.GetDirection(column);
+    for (unsigned int row = 0; row < 3; ++row)
+    {
+      direction[row][column] = row < axis.size() ? axis[row] : 0.0;
+    }
+    // As the reader does for the axes it keeps: a negative spacing turns the axis around.
+    if (io.GetSpacing(column) < 0.0)
+    {
+      for (unsigned int row = 0; row < 3; ++row)
+      {
+        direction[row][column] = -direction[row][column];
+      }
+    }
+  }
+  if (!(std::abs(vnl_determinant(direction.GetVnlMatrix())) > 1e-6))
+  {
+    throw UserError("cannot mesh input '" + path + "': the direction of its first three axes is singular (the " +
+                    std::to_string(io.GetNumberOfDimensions()) + "-D direction mixes them with the others)");
+  }
+  return direction;
+}
+
 inline void
 CheckReadableFile(const std::string & path)
 {
@@ -113,7 +147,13 @@ ReadImageFile(const std::string & path)
   {
     throw UserError("cannot read input '" + path + "': " + OneLine(error.GetDescription()));
   }
-  return reader->GetOutput();
+  typename TImage::Pointer image = reader->GetOutput();
+  if (io->GetNumberOfDimensions() > 3)
+  {
+    image->DisconnectPipeline();
+    image->SetDirection(DirectionOfTheFirstThreeAxes<TImage>(path, *io));
+  }
+  return image;
 }
 
 template <typename TImage>

@@ -38,6 +38,7 @@
 #include "itkImageSeriesWriter.h"
 #include "itkMetaDataObject.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -174,6 +175,58 @@ WriteLabelsAs(const LabelImageType * labels, const std::string & path)
   WriteImage(cast->GetOutput(), path);
 }
 
+/** The labels as 16-bit unsigned integers with 1 and 2 mapped to 40000 and 65535: values a signed 16-bit reading
+ * would make negative. */
+void
+WriteLabelsAsHighUnsigned16Bit(const LabelImageType * labels, const std::string & path)
+{
+  using OutputImageType = itk::Image<uint16_t, 3>;
+  auto image = OutputImageType::New();
+  image->CopyInformation(labels);
+  image->SetRegions(labels->GetBufferedRegion());
+  image->Allocate();
+  itk::ImageRegionConstIterator<LabelImageType> input(labels, labels->GetBufferedRegion());
+  itk::ImageRegionIterator<OutputImageType>     output(image, image->GetBufferedRegion());
+  for (; !input.IsAtEnd(); ++input, ++output)
+  {
+    output.Set(input.Get() == 0 ? 0 : input.Get() == 1 ? 40000 : 65535);
+  }
+  WriteImage(image.GetPointer(), path);
+}
+
+/** The labels as a 4-D image of one time point (a fourth axis of size 1, spacing 1), as some tools save volumes. */
+void
+WriteLabelsAsOneTimePoint(const LabelImageType * labels, const std::string & path)
+{
+  using OutputImageType = itk::Image<short, 4>;
+  auto                         image = OutputImageType::New();
+  OutputImageType::SizeType    size{};
+  OutputImageType::SpacingType spacing;
+  OutputImageType::PointType   origin;
+  spacing.Fill(1.0);
+  origin.Fill(0.0);
+  OutputImageType::DirectionType direction;
+  direction.SetIdentity();
+  for (unsigned int axis = 0; axis < 3; ++axis)
+  {
+    size[axis] = labels->GetBufferedRegion().GetSize(axis);
+    spacing[axis] = labels->GetSpacing()[axis];
+    origin[axis] = labels->GetOrigin()[axis];
+    for (unsigned int other = 0; other < 3; ++other)
+    {
+      direction(axis, other) = labels->GetDirection()(axis, other);
+    }
+  }
+  size[3] = 1;
+  image->SetRegions(OutputImageType::RegionType(size));
+  image->SetSpacing(spacing);
+  image->SetOrigin(origin);
+  image->SetDirection(direction);
+  image->Allocate();
+  std::copy_n(labels->GetBufferPointer(), labels->GetBufferedRegion().GetNumberOfPixels(), image->GetBufferPointer());
+  WriteImage(image.GetPointer(), path);
+}
+
 std::string
 DicomNumbers(const std::vector<double> & values)
 {
@@ -260,6 +313,10 @@ main(int argc, char * argv[])
     }
     WriteLabelsAs<uint8_t>(labels, (directory / "labels-uint8.nrrd").string());
     WriteLabelsAs<uint16_t>(labels, (directory / "labels-uint16.nrrd").string());
+    WriteLabelsAsHighUnsigned16Bit(labels, (directory / "labels-uint16-high.nrrd").string());
+    WriteLabelsAsOneTimePoint(labels, (directory / "labels-one-time-point.mha").string());
+    WriteLabelsAsOneTimePoint(labels, (directory / "labels-one-time-point.nii.gz").string());
+    WriteLabelsAsOneTimePoint(labels, (directory / "labels-one-time-point.nrrd").string());
     WriteLabelsAs<int32_t>(labels, (directory / "labels-int32.nrrd").string());
     WriteLabelsAs<float>(labels, (directory / "labels-float.nrrd").string());
     WriteImage(LabelsLessATenThousandth(labels).GetPointer(), (directory / "labels-float-rounding.nrrd").string());

@@ -22,6 +22,7 @@ honoured; progress goes to stderr as plain lines when stderr is not a terminal.
 
 Usage: DelaunayImageToMeshCommandLineInputs.py PROGRAM IMAGE_DIRECTORY OUTPUT_DIRECTORY"""
 
+import filecmp
 import os
 import re
 import sys
@@ -52,6 +53,10 @@ def check_ball_volumes(report, name):
                   f"{name}: label {label} {measured} = {entry[measured]:.1f}, the ball's is {volume:.1f}")
 
 
+def summary_of(report):
+    return report["vertices"], report["tetrahedra"], report["boundary_triangles"], tetrahedra_per_label(report)
+
+
 def check_file_formats_agree(program, images, output):
     """The formats, and the pixel types the program reads in different ways (8- and 16-bit integers as they are,
     floating point as floats, others as 32-bit integers; labels.* are 16-bit), give the same mesh, also when the
@@ -61,9 +66,26 @@ def check_file_formats_agree(program, images, output):
                  "labels-int32.nrrd", "labels-float.nrrd", "labels-float-rounding.nrrd"):
         _, reports[name] = mesh_and_report(program, os.path.join(images, name), output, name, options=["--delta", "2"])
         check_ball_volumes(reports[name], name)
-    summaries = {name: (report["vertices"], report["tetrahedra"], report["boundary_triangles"],
-                        tetrahedra_per_label(report)) for name, report in reports.items()}
+    summaries = {name: summary_of(report) for name, report in reports.items()}
     check(len(set(map(str, summaries.values()))) == 1, f"the formats give different meshes: {summaries}")
+    reference = summaries["labels.nii.gz"]
+    # A 4-D file of one time point is the volume it holds, in the same place of physical space (ITK's reader alone
+    # gives a MetaImage or NRRD file of more dimensions than the image the identity direction).
+    # The mesh files are compared byte for byte: a mesh moved or turned as a whole would have the same counts.
+    reference_mesh = os.path.join(output, "labels.nii.gz.vtu")
+    for name in ("labels-one-time-point.mha", "labels-one-time-point.nrrd", "labels-one-time-point.nii.gz"):
+        mesh, report = mesh_and_report(program, os.path.join(images, name), output, name, options=["--delta", "2"])
+        check(summary_of(report) == reference and filecmp.cmp(mesh, reference_mesh, shallow=False),
+              f"{name}: {summary_of(report)} and {mesh}, the 3-D file: {reference} and {reference_mesh}")
+    # Unsigned 16-bit labels of 32768 and above keep their values (1 and 2 written as 40000 and 65535): the same
+    # mesh, its labels renamed.
+    _, report = mesh_and_report(program, os.path.join(images, "labels-uint16-high.nrrd"), output, "uint16-high",
+                                options=["--delta", "2"])
+    renamed = {40000: 1, 65535: 2}
+    check(set(tetrahedra_per_label(report)) == set(renamed) and
+          {renamed[label]: count for label, count in tetrahedra_per_label(report).items()} == reference[3] and
+          summary_of(report)[:3] == reference[:3],
+          f"labels 40000 and 65535: {summary_of(report)}, labels 1 and 2: {reference}")
     return reports["labels.nii.gz"]
 
 
@@ -128,6 +150,8 @@ def check_distance_on_request(program, image, output, default_report):
     # A mesh at delta = 2 mm of balls several mm across follows their voxels to within a fraction of delta.
     check(0 < distance["mean_mm"] <= distance["percentile95_mm"] <= distance["max_mm"] < 2,
           f"--distance: implausible distances {distance}")
+    # Both surfaces are sampled every smallest voxel spacing: 1 mm of this image's 1 x 1.25 x 1.5 mm voxels.
+    check(distance["sample_spacing_mm"] == 1.0, f"--distance: samples every {distance['sample_spacing_mm']} mm")
     check((measured["vertices"], measured["tetrahedra"]) == (default_report["vertices"], default_report["tetrahedra"]),
           "--distance changed the mesh")
     # Not quiet, the distance shows its progress after the meshing's: plain lines when stderr is not a terminal.
