@@ -83,6 +83,9 @@ def check_ini_file(program, image, output):
     check(summary(from_file) == summary(from_line), f"INI file: {summary(from_file)}; command line: "
           f"{summary(from_line)}")
     check(list(tetrahedra_per_label(from_file)) == [1], f"merge-labels=true: {from_file['labels']}")
+    # The report records the option it ran with, from the file as from the command line.
+    check(from_file["parameters"]["merge_labels"] is True and from_line["parameters"]["merge_labels"] is True,
+          f"merge-labels=true: the reports record {from_file['parameters']} and {from_line['parameters']}")
 
 
 def main(program, images, output):

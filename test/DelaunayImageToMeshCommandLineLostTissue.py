@@ -27,7 +27,7 @@ import math
 import os
 import sys
 
-from DelaunayImageToMeshCommandLineTesting import check, describe, run
+from DelaunayImageToMeshCommandLineTesting import check, describe, remove_if_present, run
 
 SPECK_LABEL = 3
 SPECK_VOLUME = 2 * 1.0 * 1.25 * 1.5
@@ -36,6 +36,9 @@ SPECK_VOLUME = 2 * 1.0 * 1.25 * 1.5
 def main(program, images, output):
     os.makedirs(output, exist_ok=True)
     report_path = os.path.join(output, "speck.json")
+    unregularized_path = os.path.join(output, "speck-unregularized.json")
+    # A run in a build tree that already holds an earlier run's reports must write them again to pass.
+    remove_if_present(report_path, unregularized_path)
     result = run(program, [os.path.join(images, "speck.nii.gz"), os.path.join(output, "speck.vtu"), "--report",
                            report_path])
     check(result.returncode == 0, describe(result))
@@ -59,6 +62,20 @@ def main(program, images, output):
     check(math.isclose(regularization["volume_removed_mm3"], SPECK_VOLUME, rel_tol=1e-9)
           and regularization["volume_added_mm3"] == 0, f"label 3's regularised volume: {speck}")
     check(speck["parts_without_tetrahedra"] == 0, f"a part of label 3 left after the regularisation: {speck}")
+
+    # Without the regularisation label 3's component reaches the mesher, which gives it no tetrahedron (both voxels
+    # are far thinner than delta): still lost, and counted as a part the mesh left without a tetrahedron.
+    unregularized = run(program, [os.path.join(images, "speck.nii.gz"), os.path.join(output, "speck-unregularized.vtu"),
+                                  "--quiet", "--regularization-scale", "0", "--report", unregularized_path])
+    check(unregularized.returncode == 0, describe(unregularized))
+    with open(unregularized_path, encoding="utf-8") as file:
+        unregularized_speck = {entry["label"]: entry for entry in json.load(file)["labels"]}[SPECK_LABEL]
+    check(unregularized_speck["tetrahedra"] == 0 and unregularized_speck["lost"] is True and
+          unregularized_speck["regularization"]["components_removed"] == 0,
+          f"the premise failed: without the regularisation label 3 is {unregularized_speck}")
+    check(unregularized_speck["parts_without_tetrahedra"] == 1 and
+          math.isclose(unregularized_speck["parts_without_tetrahedra_mm3"], SPECK_VOLUME, rel_tol=1e-9),
+          f"label 3's part without a tetrahedron not counted: {unregularized_speck}")
 
     rows = [line.split() for line in result.stdout.splitlines()]
     speck_rows = [row for row in rows if row[:3] == [str(SPECK_LABEL), "0", "0"]]

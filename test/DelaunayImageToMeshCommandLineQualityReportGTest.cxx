@@ -228,6 +228,45 @@ TEST(QualityReport, SingleLabelCubeTopologyAndVolume)
   EXPECT_NEAR(report.segmentedVolume, 1.0, Tolerance);
 }
 
+/** A voxel's volume is the product of its spacings whatever the grid's orientation: the two-label cube's voxels on
+ * anisotropic grids turned about one axis and about an oblique one give 6 and 2 voxels of 0.375 mm³. A rotation
+ * about z alone by a quarter turn would not tell a wrong determinant from the right one. */
+TEST(QualityReport, SegmentedVolumeFollowsTheSpacingOnAnObliqueGrid)
+{
+  const TetrahedralMesh mesh = [] {
+    TetrahedralMesh cube = KuhnCube(2);
+    AddBoundaryTriangles(cube);
+    return cube;
+  }();
+  using Matrix = std::array<std::array<double, 3>, 3>;
+  const double c = std::cos(0.5);
+  const double s = std::sin(0.5);
+  // About z by 0.5 rad; about the axis (1, 2, 2) / 3 by 0.5 rad (Rodrigues' formula).
+  const Matrix                aboutZ{ { { c, -s, 0.0 }, { s, c, 0.0 }, { 0.0, 0.0, 1.0 } } };
+  const std::array<double, 3> axis{ { 1.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0 } };
+  Matrix                      oblique{};
+  for (int row = 0; row < 3; ++row)
+  {
+    for (int column = 0; column < 3; ++column)
+    {
+      const double cross = row == column             ? 0.0
+                           : (row + 1) % 3 == column ? -axis[3 - row - column]
+                                                     : axis[3 - row - column];
+      oblique[row][column] = (row == column ? c : 0.0) + (1.0 - c) * axis[row] * axis[column] + s * cross;
+    }
+  }
+  for (const Matrix & direction : { aboutZ, oblique })
+  {
+    LabelVolume segmentation = CubeSegmentation(2);
+    segmentation.spacing = { { 0.5, 0.75, 1.0 } };
+    segmentation.direction = direction;
+    const QualityReport report = ComputeQualityReport(mesh, segmentation);
+    EXPECT_NEAR(EntryOf(report, 1).segmentedVolume, 6 * 0.375, Tolerance);
+    EXPECT_NEAR(EntryOf(report, 2).segmentedVolume, 2 * 0.375, Tolerance);
+    EXPECT_NEAR(report.segmentedVolume, 8 * 0.375, Tolerance);
+  }
+}
+
 TEST(QualityReport, DistanceToMarchingCubes)
 {
   const QualityReport report = CubeReport(1);

@@ -571,6 +571,54 @@ TEST_F(DelaunayImageToMeshWriters, GmshEntitiesHaveTheBoxesOfTheirCells)
   }
 }
 
+/** Gmsh identifies elements by their tags, which meshio drops: read here, every element's tag is its own, and the
+ * tags are 1 to the number of elements, as the section's header says (a tag given twice would make Gmsh merge or
+ * drop elements). */
+TEST_F(DelaunayImageToMeshWriters, GmshElementTagsAreDistinctAndAsTheHeaderSays)
+{
+  const std::string path = PathOf("tags.msh");
+  WriteTetrahedralMesh(m_Mesh, path);
+  std::ifstream file(path);
+  std::string   line;
+  while (std::getline(file, line) && line != "$Elements")
+  {}
+  ASSERT_TRUE(file) << "no $Elements section in " << path;
+  std::size_t blocks = 0, elements = 0, smallestTag = 0, largestTag = 0;
+  file >> blocks >> elements >> smallestTag >> largestTag;
+  ASSERT_EQ(elements, m_Mesh.tetrahedra.size() + m_Mesh.boundaryTriangles.size());
+  EXPECT_EQ(smallestTag, 1u);
+  EXPECT_EQ(largestTag, elements);
+  std::set<std::size_t> tags;
+  std::size_t           read = 0;
+  for (std::size_t block = 0; block < blocks; ++block)
+  {
+    int         dimension = 0, entity = 0, type = 0;
+    std::size_t count = 0;
+    file >> dimension >> entity >> type >> count;
+    ASSERT_TRUE(type == 2 || type == 4) << "block " << block << " has element type " << type;
+    const int nodes = type == 2 ? 3 : 4;
+    for (std::size_t element = 0; element < count; ++element)
+    {
+      std::size_t tag = 0, node = 0;
+      file >> tag;
+      for (int corner = 0; corner < nodes; ++corner)
+      {
+        file >> node;
+      }
+      ASSERT_TRUE(file) << "block " << block << ", element " << element;
+      EXPECT_TRUE(tags.insert(tag).second) << "tag " << tag << " is given twice";
+      ++read;
+    }
+  }
+  EXPECT_EQ(read, elements);
+  ASSERT_FALSE(tags.empty());
+  EXPECT_EQ(*tags.begin(), smallestTag);
+  EXPECT_EQ(*tags.rbegin(), largestTag);
+  std::getline(file, line);
+  std::getline(file, line);
+  EXPECT_EQ(line, "$EndElements");
+}
+
 TEST_F(DelaunayImageToMeshWriters, MeditReadBackByMeshio)
 {
   ExpectMeshioReadsBack({ "mesh.mesh", "medit", "medit:ref", true });
