@@ -141,6 +141,33 @@
 #   r4-finer-sample-not-noted     R4's free vertex beside a zone, closer than the δ there, is exported at that δ (the
 #                                 code before 5cc3390); run on 2026-12-02 by hand: caught by
 #                                 RandomizedRegression.AnR4PointBesideAZoneExportsItsSpacing (SheetsAndLines 3330698)
+#   flip-checks-one-triangle-twice   the interface flip checks the angles of one of its two new triangles twice, not
+#                                 both (found by a second reader on 2026-12-02, caught then by no test)
+#   edge-removal-first-triangulation the edge removal keeps the first triangulation that fits, not the one with the
+#                                 largest smallest dihedral angle (likewise)
+#   edge-removal-rings-of-six     the edge removal tries rings of at most 6 tetrahedra, not 7 (likewise)
+#   vertex-cap-hint-at-rho-two    the vertex cap's message says termination is unproven at rho = 2, sigma = 0
+#   pinch-ties-to-larger-value    of two tissues of one size, the larger label gives way at a pinch (ties by value)
+#   nested-spheres-whole-shell    the nested spheres declare the shell's thickness as their feature size, not half
+#   gmsh-triangle-tags-overlap    the first triangle's Gmsh element tag is the last tetrahedron's
+#   distance-sampled-at-largest-spacing the report's distance samples every largest voxel spacing, not smallest
+#   parts-without-tetrahedra-uncounted  the report counts no part of a tissue the mesh left without a tetrahedron
+#   cli-uint16-read-signed        the program reads unsigned 16-bit labels as signed (40000 becomes -25536)
+#   voxel-volume-determinant-sign the voxel volume's determinant has a wrong sign (right on axis-aligned grids and
+#                                 quarter turns only)
+#   cli-one-time-point-rejected   a 4-D file of one time point is refused as 4-D
+#   cli-one-time-point-direction-dropped  such a file keeps ITK's identity direction (the program before 61c529d)
+#   report-merge-labels-unrecorded the report's merge_labels is always false
+#                                 The fourteen above, run on 2026-12-02: each caught, by (in order)
+#                                 FlatTetrahedronRemoval.FlipsNoDiagonalThatWouldMakeANarrowInterfaceTriangle,
+#                                 ...TakesTheRingsTriangulationWithTheLargestSmallestAngle (both ring mutations),
+#                                 CoreLimits.VertexLimitIsEnforced,
+#                                 RemoveVoxelPinches.TwoTissuesOfOneSizeAcrossAnEdgeAreSettledByTheLargerLabel,
+#                                 AnalyticOracles.MinimumLocalFeatureSizeIsTheDistanceToTheMedialAxis,
+#                                 DelaunayImageToMeshWriters.GmshElementTagsAreDistinctAndAsTheHeaderSays,
+#                                 DelaunayImageToMeshCommandLine.Inputs (sample spacing), .LostTissue, .Inputs
+#                                 (labels 40000 and 65535), QualityReport.SegmentedVolumeFollowsTheSpacingOnAnObliqueGrid,
+#                                 DelaunayImageToMeshCommandLine.Inputs (twice: the one-time-point files), .Config
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -321,7 +348,12 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   r3-finer-sample-not-noted iso-values-not-carried labels-always-four-bytes byte-holds-256
   lost-components-run-stale boundary-triangles-one-side rounds-stop-on-a-high-count
   calling-thread-waits-unchecked r4-finer-sample-not-noted remaining-vertices-understated
-  regularization-double-scale report-distance-one-direction interface-tags-shifted)
+  regularization-double-scale report-distance-one-direction interface-tags-shifted
+  flip-checks-one-triangle-twice edge-removal-first-triangulation edge-removal-rings-of-six
+  vertex-cap-hint-at-rho-two pinch-ties-to-larger-value nested-spheres-whole-shell gmsh-triangle-tags-overlap
+  distance-sampled-at-largest-spacing parts-without-tetrahedra-uncounted cli-uint16-read-signed
+  voxel-volume-determinant-sign cli-one-time-point-rejected cli-one-time-point-direction-dropped
+  report-merge-labels-unrecorded)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -330,6 +362,12 @@ export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$(dirname "$repository")}
 # Replaces one exact text in a file, and fails when it is not there exactly once (the source moved on: the mutation
 # must be updated, not silently skipped).
 mutate() {
+  # The dry run records the replacements and checks them all in one Python process: starting Python takes up to
+  # half a second on a busy machine, and the dry run is a test with a time limit.
+  if [ -n "${MUTATION_RECORD:-}" ]; then
+    printf '%s\0%s\0%s\0' "$1" "$2" "$3" >>"$MUTATION_RECORD"
+    return
+  fi
   python3 - "$@" <<'PYTHON'
 import sys
 path, old, new = sys.argv[1:4]
@@ -760,6 +798,65 @@ apply_mutation() {
         'm_Statistics.remainingNonManifoldVertices = places.places.size();' \
         'm_Statistics.remainingNonManifoldVertices = std::min<std::size_t>(places.places.size(), 1);'
       ;;
+    flip-checks-one-triangle-twice)
+      mutate "$tree/src/DelaunayRefinementFlatTetrahedronRemoval.h" \
+        '!HasPlanarAnglesAbove30Degrees(mesh.points[b], mesh.points[x], mesh.points[y])' \
+        '!HasPlanarAnglesAbove30Degrees(mesh.points[a], mesh.points[x], mesh.points[y])'
+      ;;
+    edge-removal-first-triangulation)
+      mutate "$tree/src/DelaunayRefinementFlatTetrahedronRemoval.h" \
+        'if (largestCosine < bestCosine)' 'if (best.empty())'
+      ;;
+    edge-removal-rings-of-six)
+      mutate "$tree/src/DelaunayRefinementFlatTetrahedronRemoval.h" \
+        'static constexpr std::size_t LargestRing = 7;' 'static constexpr std::size_t LargestRing = 6;'
+      ;;
+    vertex-cap-hint-at-rho-two)
+      mutate "$tree/src/DelaunayRefinementMeshState.h" \
+        'const bool rhoBelowTwo = m_Parameters.radiusEdgeBound < 2.0;' \
+        'const bool rhoBelowTwo = m_Parameters.radiusEdgeBound <= 2.0;'
+      ;;
+    pinch-ties-to-larger-value)
+      mutate "$tree/src/DelaunayRefinementVoxelPinches.cxx" \
+        'return a.second != b.second ? a.second < b.second : a.first < b.first;' \
+        'return a.second != b.second ? a.second < b.second : a.first > b.first;'
+      ;;
+    nested-spheres-whole-shell)
+      mutate "$tree/src/DelaunayRefinementAnalyticOracles.cxx" \
+        'const double shellHalfThickness = 0.5 * (m_Outer.MinimumLocalFeatureSize() - m_Inner.MinimumLocalFeatureSize());' \
+        'const double shellHalfThickness = m_Outer.MinimumLocalFeatureSize() - m_Inner.MinimumLocalFeatureSize();'
+      ;;
+    gmsh-triangle-tags-overlap)
+      mutate "$tree/src/DelaunayImageToMeshWriters.cxx" \
+        '                          mesh.tetrahedra.size() + 1);' '                          mesh.tetrahedra.size());'
+      ;;
+    distance-sampled-at-largest-spacing)
+      mutate "$tree/src/DelaunayImageToMeshQualityReport.cxx" \
+        'report.distanceSampleSpacing = *std::min_element(' 'report.distanceSampleSpacing = *std::max_element('
+      ;;
+    parts-without-tetrahedra-uncounted)
+      mutate "$tree/src/DelaunayImageToMeshQualityReport.cxx" '++quality->partsWithoutTetrahedra;' ''
+      ;;
+    cli-uint16-read-signed)
+      mutate "$tree/examples/DelaunayImageToMesh.cxx" \
+        'return MeshImage<itk::Image<uint16_t, 3>>(options);' 'return MeshImage<itk::Image<int16_t, 3>>(options);'
+      ;;
+    voxel-volume-determinant-sign)
+      mutate "$tree/src/DelaunayImageToMeshQualityReport.cxx" \
+        'd[0][0] * (d[1][1] * d[2][2] - d[1][2] * d[2][1]) -' 'd[0][0] * (d[1][1] * d[2][2] - d[1][2] * d[2][1]) +'
+      ;;
+    cli-one-time-point-rejected)
+      mutate "$tree/examples/DelaunayImageToMeshInput.h" \
+        'while (dimensions > 3 && io.GetDimensions(dimensions - 1) == 1)' \
+        'while (dimensions > 4 && io.GetDimensions(dimensions - 1) == 1)'
+      ;;
+    cli-one-time-point-direction-dropped)
+      mutate "$tree/examples/DelaunayImageToMeshInput.h" \
+        'if (io->GetNumberOfDimensions() > 3)' 'if (io->GetNumberOfDimensions() > 4)'
+      ;;
+    report-merge-labels-unrecorded)
+      mutate "$tree/examples/DelaunayImageToMesh.cxx" '    run.mergeLabels = filter.GetMergeLabels();' ''
+      ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2
       exit 2
@@ -776,20 +873,39 @@ copy_tree() {
 }
 
 if [ "${1:-}" = --dry-run ]; then
-  # Each mutation on a fresh copy of the tree; nothing is built.
+  # Each mutation's replacements are recorded (nothing is written), then applied in memory, each mutation to the
+  # tree as it is, its replacements in order: each text must occur exactly once. Nothing is built.
   scratch=$(mktemp -d)
   trap 'rm -rf "$scratch"' EXIT
-  drifted=0
+  copy_tree "$scratch/tree"
+  mkdir "$scratch/records"
   for name in "${all_mutations[@]}"; do
-    copy_tree "$scratch/tree"
-    if ! (apply_mutation "$scratch/tree" "$name") >"$scratch/log" 2>&1; then
-      echo "mutation-check: $name no longer applies:" >&2
-      cat "$scratch/log" >&2
-      drifted=$((drifted + 1))
-    fi
+    : >"$scratch/records/$name"
+    MUTATION_RECORD="$scratch/records/$name" apply_mutation "$scratch/tree" "$name"
   done
-  echo "mutation-check: ${#all_mutations[@]} mutations, $drifted no longer applying"
-  [ "$drifted" -eq 0 ]
+  python3 - "$scratch/records" "${all_mutations[@]}" <<'PYTHON'
+import sys
+records, names = sys.argv[1], sys.argv[2:]
+drifted = 0
+for name in names:
+    with open(f"{records}/{name}", encoding="utf-8") as file:
+        fields = file.read().split("\0")[:-1]
+    texts = {}
+    problem = None if fields else "it replaces nothing"
+    for path, old, new in zip(fields[0::3], fields[1::3], fields[2::3]):
+        if path not in texts:
+            with open(path, encoding="utf-8") as source:
+                texts[path] = source.read()
+        if texts[path].count(old) != 1:
+            problem = f"expected exactly one occurrence in {path} of:\n{old}"
+            break
+        texts[path] = texts[path].replace(old, new)
+    if problem:
+        print(f"mutation-check: {name} no longer applies: {problem}", file=sys.stderr)
+        drifted += 1
+print(f"mutation-check: {len(names)} mutations, {drifted} no longer applying")
+sys.exit(1 if drifted else 0)
+PYTHON
   exit
 fi
 
