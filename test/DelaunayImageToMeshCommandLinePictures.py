@@ -41,7 +41,9 @@ def run_script(command, name):
     had DISPLAY=:99 with no server, and VTK aborted)."""
     if "render_mesh" in name:
         if shutil.which("xvfb-run") is not None:
-            command = ["xvfb-run", "-a"] + command
+            # Without access control (-ac) the client needs no cookie: xvfb-run's xauth step sometimes left none on
+            # a busy machine here (about one run in seven: "bad X server connection", VTK aborting).
+            command = ["xvfb-run", "-a", "-s", "-ac -screen 0 1280x1024x24"] + command
         else:
             check(bool(os.environ.get("DISPLAY")), "no DISPLAY and no xvfb-run (package xvfb) to render with")
     result = subprocess.run(command, capture_output=True, text=True, timeout=600)
