@@ -147,21 +147,30 @@ WriteImage(const TImage * image, const std::string & path)
   writer->Update();
 }
 
-/** The labels as floats, each non-zero one less 1e-4: a label image resampled or saved in floating point. */
-GrayImageType::Pointer
-LabelsLessATenThousandth(const LabelImageType * labels)
+/** The labels, each voxel's mapped by `map`, as an image of `TPixel` on the same grid. */
+template <typename TPixel, typename TMap>
+typename itk::Image<TPixel, 3>::Pointer
+MappedLabels(const LabelImageType * labels, TMap map)
 {
-  auto image = GrayImageType::New();
+  using OutputImageType = itk::Image<TPixel, 3>;
+  auto image = OutputImageType::New();
   image->CopyInformation(labels);
   image->SetRegions(labels->GetBufferedRegion());
   image->Allocate();
   itk::ImageRegionConstIterator<LabelImageType> input(labels, labels->GetBufferedRegion());
-  itk::ImageRegionIterator<GrayImageType>       output(image, image->GetBufferedRegion());
+  itk::ImageRegionIterator<OutputImageType>     output(image, image->GetBufferedRegion());
   for (; !input.IsAtEnd(); ++input, ++output)
   {
-    output.Set(input.Get() == 0 ? 0.0f : static_cast<float>(input.Get()) - 1e-4f);
+    output.Set(map(input.Get()));
   }
   return image;
+}
+
+/** The labels as floats, each non-zero one less 1e-4: a label image resampled or saved in floating point. */
+GrayImageType::Pointer
+LabelsLessATenThousandth(const LabelImageType * labels)
+{
+  return MappedLabels<float>(labels, [](short label) { return label == 0 ? 0.0f : static_cast<float>(label) - 1e-4f; });
 }
 
 template <typename TPixel>
@@ -180,18 +189,11 @@ WriteLabelsAs(const LabelImageType * labels, const std::string & path)
 void
 WriteLabelsAsHighUnsigned16Bit(const LabelImageType * labels, const std::string & path)
 {
-  using OutputImageType = itk::Image<uint16_t, 3>;
-  auto image = OutputImageType::New();
-  image->CopyInformation(labels);
-  image->SetRegions(labels->GetBufferedRegion());
-  image->Allocate();
-  itk::ImageRegionConstIterator<LabelImageType> input(labels, labels->GetBufferedRegion());
-  itk::ImageRegionIterator<OutputImageType>     output(image, image->GetBufferedRegion());
-  for (; !input.IsAtEnd(); ++input, ++output)
-  {
-    output.Set(input.Get() == 0 ? 0 : input.Get() == 1 ? 40000 : 65535);
-  }
-  WriteImage(image.GetPointer(), path);
+  const auto high = [](short label) -> uint16_t {
+    constexpr uint16_t values[3] = { 0, 40000, 65535 };
+    return values[label];
+  };
+  WriteImage(MappedLabels<uint16_t>(labels, high).GetPointer(), path);
 }
 
 /** The labels as a 4-D image of one time point (a fourth axis of size 1, spacing 1), as some tools save volumes. */
