@@ -322,6 +322,9 @@
 # caught by BrainMask.TheDefaultsFollowDeltaNotItsLastBits (2.5 mm) and the brain mask's fingerprint; rerun on
 # 2026-12-01 with "-R RandomizedRegression" (25 tests): caught by RandomizedRegression.BoundaryWithinTheSurfaceBallsTieMargin
 # (SheetsAndLines 3315603 then stays within δ: the test checks that the case still reaches past it).
+#   places-first-label-only       a vertex where several boundaries are not manifolds is listed to the repairs with
+#                                 the first of them only (found by the bit-exact fingerprints alone until
+#                                 2026-12-02; now by NonManifoldPlaces.AVertexOffendingThreeBoundariesListsEachOfThem)
 # iso-values-not-carried, run on 2026-11-30 at cb6763c with DELAUNAY_MUTATION_CTEST_ARGS="-R
 # IsoSurface|HostileIso|TopologyOptions": caught by the two voxel-centre tests of IsoSurfaceRegularisation,
 # HostileIsoSurfaces OneVoxelSlit at delta = the spacing, and the randomized IsoSurfaces family.
@@ -353,7 +356,7 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   vertex-cap-hint-at-rho-two pinch-ties-to-larger-value nested-spheres-whole-shell gmsh-triangle-tags-overlap
   distance-sampled-at-largest-spacing parts-without-tetrahedra-uncounted cli-uint16-read-signed
   voxel-volume-determinant-sign cli-one-time-point-rejected cli-one-time-point-direction-dropped
-  report-merge-labels-unrecorded)
+  report-merge-labels-unrecorded places-first-label-only)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -856,6 +859,11 @@ apply_mutation() {
       ;;
     report-merge-labels-unrecorded)
       mutate "$tree/examples/DelaunayImageToMesh.cxx" '    run.mergeLabels = filter.GetMergeLabels();' ''
+      ;;
+    places-first-label-only)
+      mutate "$tree/src/DelaunayRefinementNonManifoldPlaces.h" \
+        'const std::size_t  end = index + 1 < firstPlace.size() ? firstPlace[index + 1] : places.size();' \
+        'const std::size_t  end = firstPlace[index] + 1;'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2
