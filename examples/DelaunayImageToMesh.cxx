@@ -661,13 +661,21 @@ Run(int argc, char * argv[])
   }
   // A label file of 8- or 16-bit integers is read as they are: as 32-bit integers it took two to four times the
   // file's voxels in memory, as much as the whole refinement (49 MB for the 12 MB of the 1 mm brain mask). A file of
-  // floating-point labels is read as floats, so that the filter rounds each value to the nearest label: reading it
-  // as integers truncated 1.9999999 to label 1.
+  // floats is read as floats, so that the filter rounds each value to the nearest label: reading it as integers
+  // truncated 1.9999999 to label 1. Doubles and integers that a 32-bit signed integer cannot hold (unsigned 32-bit,
+  // 64-bit) are read as doubles, exact to 2^53: read as 32-bit integers they wrapped (4,000,000,000 became
+  // -294,967,296, 2^33 + 1 became label 1, another tissue), and the filter now refuses a value beyond its labels.
   switch (ScalarComponentTypeOf(options.inputPath))
   {
     case itk::IOComponentEnum::FLOAT:
-    case itk::IOComponentEnum::DOUBLE:
       return MeshImage<GrayImageType>(options);
+    case itk::IOComponentEnum::DOUBLE:
+    case itk::IOComponentEnum::UINT:
+    case itk::IOComponentEnum::LONG:
+    case itk::IOComponentEnum::ULONG:
+    case itk::IOComponentEnum::LONGLONG:
+    case itk::IOComponentEnum::ULONGLONG:
+      return MeshImage<itk::Image<double, 3>>(options);
     case itk::IOComponentEnum::UCHAR:
       return MeshImage<itk::Image<uint8_t, 3>>(options);
     case itk::IOComponentEnum::SHORT:

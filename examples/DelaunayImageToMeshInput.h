@@ -79,6 +79,19 @@ CheckThreeDimensional(const std::string & path, const itk::ImageIOBase & io)
   }
 }
 
+/** A label or gray value per voxel: ITK's reader would turn a colour or vector voxel into one number (a colour's
+ * luminance: the components 1, 2, 3 became label 1), meshing labels the file does not hold. */
+inline void
+CheckOneComponent(const std::string & path, const itk::ImageIOBase & io)
+{
+  if (io.GetNumberOfComponents() != 1)
+  {
+    throw UserError("cannot mesh input '" + path + "': its voxels have " + std::to_string(io.GetNumberOfComponents()) +
+                    " components (" + itk::ImageIOBase::GetPixelTypeAsString(io.GetPixelType()) +
+                    "); a label image, or a gray image with --iso, has one value per voxel");
+  }
+}
+
 /** The direction of a file's first three axes, as the IO read it (direction cosines are the matrix's columns).
  * ITK 5.2's ImageFileReader gives a file of more dimensions than the image the identity instead (it takes the IO's
  * default direction), which would move and turn a 4-D MetaImage or NRRD file of one time point in physical space. */
@@ -141,6 +154,7 @@ ReadImageFile(const std::string & path)
     io->SetFileName(path);
     io->ReadImageInformation();
     CheckThreeDimensional(path, *io);
+    CheckOneComponent(path, *io);
     reader->Update();
   }
   catch (const itk::ExceptionObject & error)
@@ -192,6 +206,7 @@ ReadDicomSeries(const std::string & directory, std::ostream * notes)
   {
     throw UserError("cannot read the DICOM series in '" + directory + "': " + OneLine(error.GetDescription()));
   }
+  CheckOneComponent(directory, *reader->GetImageIO());
   return reader->GetOutput();
 #endif
 }

@@ -48,8 +48,11 @@ struct ImageLabelMapping;
  * The oracle is an InterpolateImageFunction on the input: nearest neighbour by default (label images),
  * linear interpolation with an iso-value for gray images (SetIsoValue()), or any other ITK interpolator
  * (e.g. LabelImageGaussianInterpolateImageFunction for smooth labels). Each selected label is a tissue;
- * interfaces between tissues are meshed conformingly. Outside the image everything is background, so objects
- * touching the border are closed there. All geometry is in physical space: spacing, origin and direction.
+ * interfaces between tissues are meshed conformingly. A voxel's label is its value rounded to the nearest integer,
+ * which must lie in [-2147483647, 2147483647] (the labels the output's cell data can hold) when each label is a
+ * tissue: a larger value is refused, not clamped into another tissue. Every value must be finite. Outside the image
+ * everything is background, so objects touching the border are closed there. All geometry is in physical space:
+ * spacing, origin and direction.
  *
  * Output 0: the tetrahedra (TetrahedronCell), their tissue label as cell data. Output 1: the boundary and
  * interface triangles (TriangleCell) on the same points, oriented outwards from the tissue whose label is

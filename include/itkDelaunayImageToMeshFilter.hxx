@@ -21,7 +21,6 @@
 #include "itkDelaunayImageToMeshFilter.h"
 #include "itkImageLabelOracle.h"
 
-#include "itkImageRegionConstIteratorWithIndex.h"
 #include "itkLinearInterpolateImageFunction.h"
 #include "itkNearestNeighborInterpolateImageFunction.h"
 #include "itkTetrahedronCell.h"
@@ -29,6 +28,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <memory>
 
 namespace itk
@@ -117,17 +117,51 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::ValidateInput(const InputIm
     itkExceptionMacro(<< "The input image's buffered region is empty (size " << region.GetSize()
                       << "): there is nothing to mesh.");
   }
-  if (!std::is_floating_point<InputPixelType>::value)
+  // Where each label is a tissue, a value must round to a label (ImageLabelSelection::LabelOf()): one beyond them,
+  // clamped, would join another tissue or become a label the file never held (a 32-bit unsigned 4,000,000,000).
+  // With an iso-value only the values' order matters; merged or selected labels meet no other label by rounding.
+  const bool       valuesAreLabels = !m_UseIsoValue && !m_MergeLabels && m_Labels.empty();
+  constexpr double largestLabel = static_cast<double>(std::numeric_limits<LabelType>::max());
+  constexpr bool   mayNotBeFinite = std::is_floating_point_v<InputPixelType>;
+  constexpr bool   mayNotBeALabel =
+    mayNotBeFinite || static_cast<double>(NumericTraits<InputPixelType>::NonpositiveMin()) < -largestLabel ||
+    static_cast<double>(NumericTraits<InputPixelType>::max()) > largestLabel;
+  if (!mayNotBeFinite && !(valuesAreLabels && mayNotBeALabel))
   {
     return;
   }
-  for (ImageRegionConstIteratorWithIndex<InputImageType> it(image, region); !it.IsAtEnd(); ++it)
+  // Every value below the bound in magnitude (NaN and infinities never are), tested branch-free over the raw buffer
+  // a block at a time, which the compiler vectorises: an iterator's bookkeeping per voxel would cost more than the
+  // test. Only a failing block is searched for the voxel the message names.
+  const double bound = valuesAreLabels ? largestLabel + 0.5 : std::numeric_limits<double>::infinity();
+  const auto   rejected = [bound](InputPixelType value) { return !(std::abs(static_cast<double>(value)) < bound); };
+  const InputPixelType * const values = image->GetBufferPointer();
+  const SizeValueType          count = region.GetNumberOfPixels();
+  constexpr SizeValueType      block = 4096;
+  for (SizeValueType first = 0; first < count; first += block)
   {
-    if (!std::isfinite(static_cast<double>(it.Get())))
+    const SizeValueType end = std::min(count, first + block);
+    bool                anyRejected = false;
+    for (SizeValueType offset = first; offset < end; ++offset)
     {
-      itkExceptionMacro(<< "The input image holds a non-finite value (" << it.Get() << ") at index " << it.GetIndex()
+      anyRejected |= rejected(values[offset]);
+    }
+    if (!anyRejected)
+    {
+      continue;
+    }
+    const auto   offset = static_cast<SizeValueType>(std::find_if(values + first, values + end, rejected) - values);
+    const double value = static_cast<double>(values[offset]);
+    const auto   index = image->ComputeIndex(static_cast<OffsetValueType>(offset));
+    if (!std::isfinite(value))
+    {
+      itkExceptionMacro(<< "The input image holds a non-finite value (" << values[offset] << ") at index " << index
                         << "; every voxel value must be finite.");
     }
+    itkExceptionMacro(<< "The input image holds the value " << std::setprecision(17) << value << " at index " << index
+                      << ", which rounds to no label: each label is a tissue, and labels are the integers in ["
+                      << -largestLabel << ", " << largestLabel
+                      << "] (MergeLabels, Labels or an IsoValue read other values).");
   }
 }
 

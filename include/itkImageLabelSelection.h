@@ -103,7 +103,13 @@ public:
       return delaunay_refinement::BackgroundLabel;
     }
     constexpr double largestLabel = static_cast<double>(std::numeric_limits<LabelType>::max());
-    const auto       label = static_cast<LabelType>(std::lround(std::clamp(value, -largestLabel, largestLabel)));
+    if (!(std::abs(value) < largestLabel + 0.5))
+    {
+      // It rounds to no label, so no selected one (the filter refuses such a value where each label is a tissue);
+      // merged without a selection, every non-zero value is the object.
+      return m_MergeLabels && m_SelectedLabels.empty() ? 1 : delaunay_refinement::BackgroundLabel;
+    }
+    const auto label = static_cast<LabelType>(std::lround(value));
     if (label == delaunay_refinement::BackgroundLabel ||
         !(m_SelectedLabels.empty() || std::binary_search(m_SelectedLabels.begin(), m_SelectedLabels.end(), label)))
     {

@@ -325,6 +325,13 @@
 #   places-first-label-only       a vertex where several boundaries are not manifolds is listed to the repairs with
 #                                 the first of them only (found by the bit-exact fingerprints alone until
 #                                 2026-12-02; now by NonManifoldPlaces.AVertexOffendingThreeBoundariesListsEachOfThem)
+#   values-beyond-labels-accepted the filter accepts a value no label can hold where each label is a tissue
+#   labels-beyond-clamped         a value beyond the labels is clamped to the nearest label (a selection of the
+#                                 largest label takes it)
+#   cli-wide-integers-as-int32    the program reads unsigned 32-bit and 64-bit label files as 32-bit signed
+#                                 integers (4,000,000,000 wraps to -294,967,296)
+#   cli-vector-images-read        the program meshes a file of several components a voxel (ITK makes one number of
+#                                 them)
 # iso-values-not-carried, run on 2026-11-30 at cb6763c with DELAUNAY_MUTATION_CTEST_ARGS="-R
 # IsoSurface|HostileIso|TopologyOptions": caught by the two voxel-centre tests of IsoSurfaceRegularisation,
 # HostileIsoSurfaces OneVoxelSlit at delta = the spacing, and the randomized IsoSurfaces family.
@@ -356,7 +363,8 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   vertex-cap-hint-at-rho-two pinch-ties-to-larger-value nested-spheres-whole-shell gmsh-triangle-tags-overlap
   distance-sampled-at-largest-spacing parts-without-tetrahedra-uncounted cli-uint16-read-signed
   voxel-volume-determinant-sign cli-one-time-point-rejected cli-one-time-point-direction-dropped
-  report-merge-labels-unrecorded places-first-label-only)
+  report-merge-labels-unrecorded places-first-label-only values-beyond-labels-accepted labels-beyond-clamped
+  cli-wide-integers-as-int32 cli-vector-images-read)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -622,8 +630,8 @@ apply_mutation() {
         'json["lost_components"] = 0;'
       ;;
     label-values-truncated)
-      mutate "$tree/include/itkImageLabelSelection.h" 'std::lround(std::clamp(value, -largestLabel, largestLabel))' \
-        'std::trunc(std::clamp(value, -largestLabel, largestLabel))'
+      mutate "$tree/include/itkImageLabelSelection.h" 'static_cast<LabelType>(std::lround(value))' \
+        'static_cast<LabelType>(std::trunc(value))'
       ;;
     cli-iso-ignored)
       mutate "$tree/examples/DelaunayImageToMesh.cxx" 'filter->SetIsoValue(*options.isoValue);' ''
@@ -859,6 +867,24 @@ apply_mutation() {
       ;;
     report-merge-labels-unrecorded)
       mutate "$tree/examples/DelaunayImageToMesh.cxx" '    run.mergeLabels = filter.GetMergeLabels();' ''
+      ;;
+    values-beyond-labels-accepted)
+      mutate "$tree/include/itkDelaunayImageToMeshFilter.hxx" \
+        'const double bound = valuesAreLabels ? largestLabel + 0.5 : std::numeric_limits<double>::infinity();' \
+        'const double bound = std::numeric_limits<double>::infinity();'
+      ;;
+    labels-beyond-clamped)
+      mutate "$tree/include/itkImageLabelSelection.h" \
+        'return m_MergeLabels && m_SelectedLabels.empty() ? 1 : delaunay_refinement::BackgroundLabel;' \
+        'value = std::clamp(value, -largestLabel, largestLabel);'
+      ;;
+    cli-wide-integers-as-int32)
+      mutate "$tree/examples/DelaunayImageToMesh.cxx" 'return MeshImage<itk::Image<double, 3>>(options);' \
+        'return MeshImage<LabelImageType>(options);'
+      ;;
+    cli-vector-images-read)
+      mutate "$tree/examples/DelaunayImageToMeshInput.h" '    CheckOneComponent(path, *io);
+' ''
       ;;
     places-first-label-only)
       mutate "$tree/src/DelaunayRefinementNonManifoldPlaces.h" \

@@ -37,6 +37,10 @@ GROUPS = ["Meshing:", "Tissues:", "Output:"]
 def error_cases(image, output):
     """(arguments, what the message must name) for each mistake."""
     mesh = os.path.join(output, "mesh.vtu")
+
+    def beside(name):
+        return os.path.join(os.path.dirname(image), name)
+
     not_an_image = os.path.join(output, "not-an-image.nii")
     empty_directory = os.path.join(output, "empty-directory")
     with open(not_an_image, "w", encoding="utf-8") as file:
@@ -91,6 +95,12 @@ def error_cases(image, output):
         ([image, mesh, "--report", os.path.join(output, "no-such-directory", "r.json")], "--report: directory '" +
          os.path.join(output, "no-such-directory") + "' does not exist"),
         ([image, mesh, "--labels", "99"], "meshing failed: No voxel of the input is part of the object"),
+        # Values no label can hold are refused, not wrapped or clamped into another tissue; colours are not labels.
+        ([beside("labels-uint32-beyond.nrrd"), mesh], "The input image holds the value 4000000000 at index"),
+        ([beside("labels-uint32-beyond.nrrd"), mesh], "labels are the integers in [-2147483647, 2147483647]"),
+        ([beside("labels-int64-beyond.nrrd"), mesh], "The input image holds the value 8589934593 at index"),
+        ([beside("labels-vector.nrrd"), mesh], "cannot mesh input '" + beside("labels-vector.nrrd") +
+         "': its voxels have 3 components"),
         ([image, mesh, "--delta", "1", "--max-vertices", "20"],
          "meshing failed: Delaunay refinement reached maximumNumberOfVertices = 20 vertices"),
     ]

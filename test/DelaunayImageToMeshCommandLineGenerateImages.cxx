@@ -37,6 +37,7 @@
 #include "itkImageRegionIteratorWithIndex.h"
 #include "itkImageSeriesWriter.h"
 #include "itkMetaDataObject.h"
+#include "itkVector.h"
 
 #include <algorithm>
 #include <cstdlib>
@@ -196,6 +197,38 @@ WriteLabelsAsHighUnsigned16Bit(const LabelImageType * labels, const std::string 
   WriteImage(MappedLabels<uint16_t>(labels, high).GetPointer(), path);
 }
 
+/** The labels with 1 and 2 mapped to `first` and `second`, as an image of `TPixel`: label values a 32-bit signed
+ * integer cannot hold, or that a float cannot tell apart. */
+template <typename TPixel>
+void
+WriteLabelsRenamed(const LabelImageType * labels, TPixel first, TPixel second, const std::string & path)
+{
+  WriteImage(MappedLabels<TPixel>(labels,
+                                  [first, second](short label) -> TPixel {
+                                    return label == 0 ? TPixel{ 0 } : label == 1 ? first : second;
+                                  })
+               .GetPointer(),
+             path);
+}
+
+/** The labels as three components a voxel (label, label + 1, label + 2): a colour or vector image, not labels. */
+void
+WriteLabelsAsVectors(const LabelImageType * labels, const std::string & path)
+{
+  using VectorType = itk::Vector<uint8_t, 3>;
+  WriteImage(MappedLabels<VectorType>(labels,
+                                      [](short label) {
+                                        VectorType vector;
+                                        for (unsigned int component = 0; component < 3; ++component)
+                                        {
+                                          vector[component] = static_cast<uint8_t>(label == 0 ? 0 : label + component);
+                                        }
+                                        return vector;
+                                      })
+               .GetPointer(),
+             path);
+}
+
 /** The labels as a 4-D image of one time point (a fourth axis of size 1, spacing 1), as some tools save volumes. */
 void
 WriteLabelsAsOneTimePoint(const LabelImageType * labels, const std::string & path)
@@ -321,6 +354,13 @@ main(int argc, char * argv[])
     WriteLabelsAsOneTimePoint(labels, (directory / "labels-one-time-point.nrrd").string());
     WriteLabelsAs<int32_t>(labels, (directory / "labels-int32.nrrd").string());
     WriteLabelsAs<float>(labels, (directory / "labels-float.nrrd").string());
+    // The largest label, and integers beyond a 32-bit signed integer or a float (read as doubles).
+    WriteLabelsRenamed<uint32_t>(labels, 100000, 2147483647, (directory / "labels-uint32-largest.nrrd").string());
+    WriteLabelsRenamed<double>(
+      labels, 16777216.0, 16777217.0, (directory / "labels-double-beyond-float.nrrd").string());
+    WriteLabelsRenamed<uint32_t>(labels, 1, 4000000000u, (directory / "labels-uint32-beyond.nrrd").string());
+    WriteLabelsRenamed<int64_t>(labels, 1, (int64_t{ 1 } << 33) + 1, (directory / "labels-int64-beyond.nrrd").string());
+    WriteLabelsAsVectors(labels, (directory / "labels-vector.nrrd").string());
     WriteImage(LabelsLessATenThousandth(labels).GetPointer(), (directory / "labels-float-rounding.nrrd").string());
     WriteDicomSeries(MakeLabelImage(false), directory / "labels-dicom");
     WriteImage(MakeGrayImage().GetPointer(), (directory / "gray.mha").string());

@@ -77,15 +77,17 @@ def check_file_formats_agree(program, images, output):
         mesh, report = mesh_and_report(program, os.path.join(images, name), output, name, options=["--delta", "2"])
         check(summary_of(report) == reference and filecmp.cmp(mesh, reference_mesh, shallow=False),
               f"{name}: {summary_of(report)} and {mesh}, the 3-D file: {reference} and {reference_mesh}")
-    # Unsigned 16-bit labels of 32768 and above keep their values (1 and 2 written as 40000 and 65535): the same
-    # mesh, its labels renamed.
-    _, report = mesh_and_report(program, os.path.join(images, "labels-uint16-high.nrrd"), output, "uint16-high",
-                                options=["--delta", "2"])
-    renamed = {40000: 1, 65535: 2}
-    check(set(tetrahedra_per_label(report)) == set(renamed) and
-          {renamed[label]: count for label, count in tetrahedra_per_label(report).items()} == reference[3] and
-          summary_of(report)[:3] == reference[:3],
-          f"labels 40000 and 65535: {summary_of(report)}, labels 1 and 2: {reference}")
+    # Labels keep their values where a narrower reading would change them (1 and 2 written as other values): the
+    # same mesh, its labels renamed. Unsigned 16-bit labels of 32768 and above (signed, they are negative); unsigned
+    # 32-bit up to the largest label 2^31 - 1; doubles that a float cannot tell apart (2^24 and 2^24 + 1).
+    for name, renamed in (("labels-uint16-high.nrrd", {40000: 1, 65535: 2}),
+                          ("labels-uint32-largest.nrrd", {100000: 1, 2147483647: 2}),
+                          ("labels-double-beyond-float.nrrd", {16777216: 1, 16777217: 2})):
+        _, report = mesh_and_report(program, os.path.join(images, name), output, name, options=["--delta", "2"])
+        check(set(tetrahedra_per_label(report)) == set(renamed) and
+              {renamed[label]: count for label, count in tetrahedra_per_label(report).items()} == reference[3] and
+              summary_of(report)[:3] == reference[:3],
+              f"{name}, labels {sorted(renamed)}: {summary_of(report)}, labels 1 and 2: {reference}")
     return reports["labels.nii.gz"]
 
 

@@ -1578,6 +1578,7 @@ TEST(BadInput, FloatImageWithNaN)
 {
   auto filter = FilterFor(FloatBallWith(std::numeric_limits<float>::quiet_NaN()).GetPointer(), 2.0);
   ExpectExceptionNaming(*filter, "non-finite");
+  ExpectExceptionNaming(*filter, "at index [3, 4, 5]");
 }
 
 TEST(BadInput, FloatImageWithInfinity)
@@ -1591,6 +1592,86 @@ TEST(BadInput, FloatImageWithInfinityInIsoValueMode)
   auto filter = FilterFor(FloatBallWith(std::numeric_limits<float>::infinity()).GetPointer(), 2.0);
   filter->SetIsoValue(0.5);
   ExpectExceptionNaming(*filter, "non-finite");
+}
+
+/** Two balls of radius 4 mm on a 24 x 12 x 12 grid of 1 mm voxels: the left one of value `left`, the right one of
+ * `right`; their centres. */
+template <typename TPixel>
+std::pair<typename itk::Image<TPixel, 3>::Pointer, std::array<dr::Vector3, 2>>
+TwoBallsOf(TPixel left, TPixel right)
+{
+  using ImageType = itk::Image<TPixel, 3>;
+  auto image = ImageType::New();
+  image->SetRegions(typename ImageType::SizeType{ { 24, 12, 12 } });
+  image->Allocate();
+  image->FillBuffer(TPixel{ 0 });
+  const std::array<dr::Vector3, 2> centers{ { { { 5.5, 5.5, 5.5 } }, { { 17.5, 5.5, 5.5 } } } };
+  for (itk::ImageRegionIteratorWithIndex<ImageType> it(image, image->GetBufferedRegion()); !it.IsAtEnd(); ++it)
+  {
+    for (int ball = 0; ball < 2; ++ball)
+    {
+      double squared = 0.0;
+      for (unsigned int axis = 0; axis < 3; ++axis)
+      {
+        const double d = static_cast<double>(it.GetIndex()[axis]) - centers[ball][axis];
+        squared += d * d;
+      }
+      if (squared <= 16.0)
+      {
+        it.Set(ball == 0 ? left : right);
+      }
+    }
+  }
+  return { image, centers };
+}
+
+// A label is the voxel's value rounded to the nearest integer, and the labels are the 32-bit signed integers but
+// the smallest (the output's cell data, delaunay_refinement::Label). A value beyond them was clamped to the largest
+// label: two tissues of 3,000,000,000 and 4,000,000,000 would have been one, and a selection of 2147483647 would
+// have taken both. Each label being a tissue, such a value is refused, naming it, its index and the range.
+TEST(BadInput, ValueBeyondTheLabels)
+{
+  const auto [image, centers] = TwoBallsOf<uint32_t>(3000000000u, 4000000000u);
+  auto filter = FilterFor(image.GetPointer(), 2.0);
+  ExpectExceptionNaming(*filter, "holds the value 3000000000 at index [");
+  ExpectExceptionNaming(*filter, "the integers in [-2147483647, 2147483647]");
+
+  const auto [smallest, unused] = TwoBallsOf<int32_t>(1, std::numeric_limits<int32_t>::min());
+  auto smallestFilter = FilterFor(smallest.GetPointer(), 2.0);
+  ExpectExceptionNaming(*smallestFilter, "holds the value -2147483648 at index [");
+
+  // A float a label apart from the largest label, and one within rounding of it.
+  const auto [beyond, unusedBeyond] = TwoBallsOf<double>(1.0, 2147483647.5);
+  ExpectExceptionNaming(*FilterFor(beyond.GetPointer(), 2.0), "holds the value 2147483647.5 at index [");
+  const auto [within, withinCenters] = TwoBallsOf<double>(1.0, 2147483647.4);
+  const auto meshed =
+    RunFilter<itk::DelaunayImageToMeshFilter<itk::Image<double, 3>, MeshType>>(FilterFor(within.GetPointer(), 2.0));
+  EXPECT_TRUE(ATetrahedronOfTheLabelContains(meshed->mesh, 2147483647, withinCenters[1]));
+}
+
+// Merged labels read every non-zero value as the object, and a selection only the labels it names: there a value
+// beyond the labels is no label, neither refused nor clamped into one.
+TEST(LabelSelection, ValueBeyondTheLabelsIsObjectWhenMergedAndNeverSelected)
+{
+  const auto [image, centers] = TwoBallsOf<uint32_t>(1u, 4000000000u);
+  auto merged = FilterFor(image.GetPointer(), 2.0);
+  merged->MergeLabelsOn();
+  const auto meshed = RunFilter<itk::DelaunayImageToMeshFilter<itk::Image<uint32_t, 3>, MeshType>>(merged);
+  ExpectGuarantees(*meshed);
+  EXPECT_TRUE(ATetrahedronOfTheLabelContains(meshed->mesh, 1, centers[0]));
+  EXPECT_TRUE(ATetrahedronOfTheLabelContains(meshed->mesh, 1, centers[1]));
+  EXPECT_EQ(meshed->boundary.numberOfComponents, 2);
+
+  auto selected = FilterFor(image.GetPointer(), 2.0);
+  selected->AddLabel(1);
+  const auto left = RunFilter<itk::DelaunayImageToMeshFilter<itk::Image<uint32_t, 3>, MeshType>>(selected);
+  EXPECT_TRUE(ATetrahedronOfTheLabelContains(left->mesh, 1, centers[0]));
+  EXPECT_FALSE(ATetrahedronOfTheLabelContains(left->mesh, 1, centers[1]));
+  EXPECT_EQ(left->boundary.numberOfComponents, 1);
+
+  auto largest = FilterFor(image.GetPointer(), 2.0);
+  largest->AddLabel(std::numeric_limits<int32_t>::max());
+  ExpectExceptionNaming(*largest, "no voxel carries a selected label");
 }
 
 TEST(BadInput, EmptyBufferedRegion)
