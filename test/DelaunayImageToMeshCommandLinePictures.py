@@ -25,6 +25,7 @@ import os
 import shutil
 import subprocess
 import sys
+import tempfile
 
 import numpy
 import vtk
@@ -35,18 +36,50 @@ from DelaunayImageToMeshCommandLineTesting import check, mesh_and_report, remove
 SIZE = (640, 480)
 
 
+class PrivateXServer:
+    """An Xvfb of its own, on a display number it chose itself (-displayfd), and ready when the number arrives: the
+    display is then known to be served. xvfb-run failed here about one run in four back to back (VTK: "bad X server
+    connection", aborting): it takes the first number without a lock file, and runs the command even when that
+    server died at start (a previous server on the number still going away)."""
+
+    def __enter__(self):
+        read_end, write_end = os.pipe()
+        # Its messages go to a file: a pipe nobody reads could fill and stop the server.
+        self.messages = tempfile.TemporaryFile()
+        try:
+            self.server = subprocess.Popen(["Xvfb", "-displayfd", str(write_end), "-ac", "-nolisten", "tcp", "-screen",
+                                            "0", "1280x1024x24"], pass_fds=(write_end,), stdout=subprocess.DEVNULL,
+                                           stderr=self.messages)
+        finally:
+            os.close(write_end)
+        with os.fdopen(read_end) as numbers:
+            number = numbers.readline().strip()
+        if not number.isdigit():
+            self.server.kill()
+            self.server.wait()
+            self.messages.seek(0)
+            check(False, f"Xvfb did not start: {self.messages.read().decode(errors='replace')}")
+        self.display = ":" + number
+        return self
+
+    def __exit__(self, *exception):
+        self.server.terminate()
+        self.server.wait(timeout=60)
+        self.messages.close()
+
+
 def run_script(command, name):
-    """Debian's VTK needs an X display even off-screen. xvfb-run starts a private one, so it is used whenever it is
-    installed: a DISPLAY variable inherited from the environment can name a server that is not running (CI once
-    had DISPLAY=:99 with no server, and VTK aborted)."""
-    if "render_mesh" in name:
-        if shutil.which("xvfb-run") is not None:
-            # Without access control (-ac) the client needs no cookie: xvfb-run's xauth step sometimes left none on
-            # a busy machine here (about one run in seven: "bad X server connection", VTK aborting).
-            command = ["xvfb-run", "-a", "-s", "-ac -screen 0 1280x1024x24"] + command
-        else:
-            check(bool(os.environ.get("DISPLAY")), "no DISPLAY and no xvfb-run (package xvfb) to render with")
-    result = subprocess.run(command, capture_output=True, text=True, timeout=600)
+    """Debian's VTK needs an X display even off-screen: a private Xvfb whenever it is installed, since a DISPLAY
+    inherited from the environment can name a server that is not running (CI once had DISPLAY=:99 with no server,
+    and VTK aborted)."""
+    if "render_mesh" in name and shutil.which("Xvfb") is not None:
+        with PrivateXServer() as server:
+            result = subprocess.run(command, capture_output=True, text=True, timeout=600,
+                                    env=dict(os.environ, DISPLAY=server.display))
+    else:
+        if "render_mesh" in name:
+            check(bool(os.environ.get("DISPLAY")), "no DISPLAY and no Xvfb (package xvfb) to render with")
+        result = subprocess.run(command, capture_output=True, text=True, timeout=600)
     check(result.returncode == 0, f"{name} failed with exit code {result.returncode}:\n{result.stderr}")
 
 
