@@ -168,6 +168,20 @@
 #                                 DelaunayImageToMeshCommandLine.Inputs (sample spacing), .LostTissue, .Inputs
 #                                 (labels 40000 and 65535), QualityReport.SegmentedVolumeFollowsTheSpacingOnAnObliqueGrid,
 #                                 DelaunayImageToMeshCommandLine.Inputs (twice: the one-time-point files), .Config
+#   Bugs in core files few deliberate bugs had reached (added 2026-12-02, second reader), each survived the whole suite:
+#   manifold-levels-limit-exclusive the parameter check refuses manifoldRefinementLevels = 10, the largest its
+#                                 documentation allows ([0, 10]); caught by
+#                                 CoreParameters.TheLimitsOfEveryRangeAreValidAndTheNextValuesAreNot
+#   link-of-two-edges-a-cycle     the surface topology takes a vertex link of two edges for a cycle, so two triangles
+#                                 on one vertex set count as a closed manifold (the refinement's own link test is
+#                                 VertexLinks.h; this is the metric the tests hold meshes to); caught by
+#                                 SurfaceTopology.TwoTrianglesOnOneVertexSetAreNoManifold
+#   flat-facets-oriented          the boundary check counts a triangle as wrongly oriented only when its tetrahedron's
+#                                 apex is in front of it, so the facets of a flat tetrahedron pass; caught by
+#                                 BoundaryConsistency.TheFacetsOfAFlatTetrahedronPointNowhere
+#   facet-bound-two-corners       the check that a facet a relabelling or a peeled cap puts on a boundary is narrower
+#                                 than the local delta reads the delta at two of its corners, not three; caught by
+#                                 LocalSampling.ABoundaryFacetKeepsItsBoundOnlyBelowTheDeltaAtEveryCorner
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -364,7 +378,8 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   distance-sampled-at-largest-spacing parts-without-tetrahedra-uncounted cli-uint16-read-signed
   voxel-volume-determinant-sign cli-one-time-point-rejected cli-one-time-point-direction-dropped
   report-merge-labels-unrecorded places-first-label-only values-beyond-labels-accepted labels-beyond-clamped
-  cli-wide-integers-as-int32 cli-vector-images-read)
+  cli-wide-integers-as-int32 cli-vector-images-read manifold-levels-limit-exclusive link-of-two-edges-a-cycle
+  flat-facets-oriented facet-bound-two-corners)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -890,6 +905,23 @@ apply_mutation() {
       mutate "$tree/src/DelaunayRefinementNonManifoldPlaces.h" \
         'const std::size_t  end = index + 1 < firstPlace.size() ? firstPlace[index + 1] : places.size();' \
         'const std::size_t  end = firstPlace[index] + 1;'
+      ;;
+    manifold-levels-limit-exclusive)
+      mutate "$tree/src/DelaunayRefinementParameters.cxx" \
+        'parameters.manifoldRefinementLevels <= Limits::LargestManifoldRefinementLevels' \
+        'parameters.manifoldRefinementLevels < Limits::LargestManifoldRefinementLevels'
+      ;;
+    link-of-two-edges-a-cycle)
+      mutate "$tree/src/DelaunayRefinementSurfaceTopology.cxx" '    if (last - first < 3)' '    if (last - first < 2)'
+      ;;
+    flat-facets-oriented)
+      mutate "$tree/src/DelaunayRefinementMeshQuality.cxx" \
+        '                             mesh.points[inner.apex] } }) != CGAL::NEGATIVE &&' \
+        '                             mesh.points[inner.apex] } }) == CGAL::POSITIVE &&'
+      ;;
+    facet-bound-two-corners)
+      mutate "$tree/src/DelaunayRefinementSizing.h" 'std::min({ LocalDelta(a), LocalDelta(b), LocalDelta(c) })' \
+        'std::min(LocalDelta(a), LocalDelta(b))'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2

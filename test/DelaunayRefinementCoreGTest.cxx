@@ -725,6 +725,65 @@ TEST(CoreParameters, InvalidValuesAreRejectedByName)
   EXPECT_NO_THROW(ValidateParameters(ParametersOf(1.0, 1.0, ParameterLimits::LargestMinimumDihedralAngle)));
 }
 
+/** Every range RefinementParameters documents is closed at its limit ("Must be in [0, 10]", "at least 8", "(0,
+ * 1e30]"): the limit itself is valid and the next value is not. Only the ends of δ's lower, ρ's and σ's ranges were
+ * checked before, so a limit checked with < instead of <= (rejecting the largest documented level) went unseen. */
+TEST(CoreParameters, TheLimitsOfEveryRangeAreValidAndTheNextValuesAreNot)
+{
+  const auto validWith = [](const std::function<void(RefinementParameters &)> & change) {
+    RefinementParameters parameters = ParametersOf(1.0, 2.0);
+    change(parameters);
+    return parameters;
+  };
+  EXPECT_NO_THROW(ValidateParameters(validWith(
+    [](RefinementParameters & p) { p.manifoldRefinementLevels = ParameterLimits::LargestManifoldRefinementLevels; })));
+  ExpectInvalidArgumentNaming(
+    [&] {
+      ValidateParameters(validWith([](RefinementParameters & p) {
+        p.manifoldRefinementLevels = ParameterLimits::LargestManifoldRefinementLevels + 1;
+      }));
+    },
+    "manifoldRefinementLevels");
+  EXPECT_NO_THROW(ValidateParameters(validWith([](RefinementParameters & p) {
+    p.topologyRegularizationRounds = ParameterLimits::LargestTopologyRegularizationRounds;
+  })));
+  ExpectInvalidArgumentNaming(
+    [&] {
+      ValidateParameters(validWith([](RefinementParameters & p) {
+        p.topologyRegularizationRounds = ParameterLimits::LargestTopologyRegularizationRounds + 1;
+      }));
+    },
+    "topologyRegularizationRounds");
+  EXPECT_NO_THROW(ValidateParameters(validWith(
+    [](RefinementParameters & p) { p.maximumNumberOfVertices = ParameterLimits::SmallestMaximumNumberOfVertices; })));
+  ExpectInvalidArgumentNaming(
+    [&] {
+      ValidateParameters(validWith([](RefinementParameters & p) {
+        p.maximumNumberOfVertices = ParameterLimits::SmallestMaximumNumberOfVertices - 1;
+      }));
+    },
+    "maximumNumberOfVertices");
+  EXPECT_NO_THROW(ValidateParameters(validWith(
+    [](RefinementParameters & p) { p.surfaceSamplingDistance = ParameterLimits::LargestSurfaceSamplingDistance; })));
+  ExpectInvalidArgumentNaming(
+    [&] {
+      ValidateParameters(validWith([](RefinementParameters & p) {
+        p.surfaceSamplingDistance =
+          std::nextafter(ParameterLimits::LargestSurfaceSamplingDistance, std::numeric_limits<double>::infinity());
+      }));
+    },
+    "surfaceSamplingDistance");
+  EXPECT_NO_THROW(
+    ValidateParameters(validWith([](RefinementParameters & p) { p.minimumSurfaceSamplingDistance = 0.0; })));
+  ExpectInvalidArgumentNaming(
+    [&] {
+      ValidateParameters(validWith([](RefinementParameters & p) {
+        p.minimumSurfaceSamplingDistance = -std::numeric_limits<double>::denorm_min();
+      }));
+    },
+    "minimumSurfaceSamplingDistance");
+}
+
 /** The local feature size each analytic shape declares, which bounds the tests' distance checks (a size too large
  * would let a mesh farther from the surface pass): the distance from its surface to its medial axis, worked out here
  * from the shapes' dimensions. */

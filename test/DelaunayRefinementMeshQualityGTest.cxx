@@ -425,6 +425,52 @@ TEST(SurfaceTopology, BoundaryAndLabelBoundary)
   EXPECT_EQ(byLabel.at(1).size(), 8u);
 }
 
+/** Two triangles on one vertex set (a "pillow"): every edge is in exactly two triangles, but each vertex's link is
+ * one edge taken twice. A link is a surface's only when it is one cycle of at least three edges (a disc around the
+ * vertex), so all three vertices are non-manifold and the surface is no closed manifold. Nothing else here says
+ * so: the edge counts are those of a closed surface. */
+TEST(SurfaceTopology, TwoTrianglesOnOneVertexSetAreNoManifold)
+{
+  const std::vector<Vector3> points{ { { 0.0, 0.0, 0.0 } }, { { 1.0, 0.0, 0.0 } }, { { 0.0, 1.0, 0.0 } } };
+  const Triangles            pillow{ { { 0, 1, 2 } }, { { 0, 2, 1 } } };
+  const SurfaceTopology      topology = ComputeSurfaceTopology(points, pillow);
+  EXPECT_EQ(topology.numberOfEdges, 3u);
+  EXPECT_EQ(topology.nonManifoldEdges, 0u);
+  EXPECT_EQ(topology.nonManifoldVertices, 3u);
+  EXPECT_FALSE(topology.IsClosedManifold());
+  EXPECT_EQ(FindNonManifoldVertices(pillow), (std::vector<uint32_t>{ 0, 1, 2 }));
+}
+
+/** A boundary triangle must point away from its tetrahedron (BoundaryConsistency::wrongOrientation); a tetrahedron
+ * flat to zero volume has each facet's apex in the facet's plane, so none of its facets points away from it, either
+ * way round. The check must call them all wrong, as it calls a reversed one wrong, and the right way round right. */
+TEST(BoundaryConsistency, TheFacetsOfAFlatTetrahedronPointNowhere)
+{
+  TetrahedralMesh regular = MeshOf(RegularTetrahedronPoints(), { PositiveRegularTetrahedron });
+  regular.boundaryTriangles = TetrahedronSurface(0, 1, 3, 2);
+  regular.boundaryTriangleLabels.assign(4, { { 1, BackgroundLabel } });
+  EXPECT_TRUE(CheckBoundaryAgainstTetrahedra(regular).IsConsistent());
+  TetrahedralMesh reversed = regular;
+  for (auto & triangle : reversed.boundaryTriangles)
+  {
+    std::swap(triangle[1], triangle[2]);
+  }
+  EXPECT_EQ(CheckBoundaryAgainstTetrahedra(reversed).wrongOrientation, 4u);
+
+  // Four points of the plane z = 0, so each facet's apex lies in its plane: orientation 0 for all four.
+  TetrahedralMesh flat =
+    MeshOf({ { { 0.0, 0.0, 0.0 } }, { { 1.0, 0.0, 0.0 } }, { { 0.0, 1.0, 0.0 } }, { { 1.0, 1.0, 0.0 } } },
+           { { { 0, 1, 2, 3 } } });
+  flat.boundaryTriangles = TetrahedronSurface(0, 1, 2, 3);
+  flat.boundaryTriangleLabels.assign(4, { { 1, BackgroundLabel } });
+  const BoundaryConsistency consistency = CheckBoundaryAgainstTetrahedra(flat);
+  EXPECT_EQ(consistency.missingTriangles, 0u);
+  EXPECT_EQ(consistency.extraTriangles, 0u);
+  EXPECT_EQ(consistency.wrongLabels, 0u);
+  EXPECT_EQ(consistency.wrongOrientation, 4u);
+  EXPECT_FALSE(consistency.IsConsistent());
+}
+
 TEST(ShortestEdgesByKind, EachEndpointCountsForItsKind)
 {
   // Edges: 0-1 = 3, 0-2 = 2, 0-3 = 4, 1-2 = √13, 1-3 = 5, 2-3 = √20.

@@ -23,6 +23,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace dr = delaunay_refinement;
 
 namespace
@@ -120,4 +122,35 @@ TEST(LocalSampling, AFinerSampleIsRecordedBesideAnyZone)
   sizing.NoteFinerSample(beside, 0.6);
   EXPECT_EQ(sizing.SamplingDistanceOf(beside), 0.6);
   EXPECT_EQ(sizing.LocalDelta(beside), Delta) << "the rules' reading at the point does not change";
+}
+
+/** A triangle keeps R1's bound as a boundary facet only when its circumradius is below the local δ at each of its
+ * corners (LocalSampling::KeepsBoundaryFacetBound): a corner inside a finer zone brings the zone's δ, whichever
+ * corner it is. An equilateral triangle of circumradius 0.5 centred 1 from the zone's centre, with one corner 0.5
+ * from it (inside the zone of δ 0.25 and radius 0.75) and two 1.32 from it (outside), is wider than that corner's δ:
+ * it must not be kept, whichever of the three corners is the one in the zone. Moved away from the zone, the same
+ * triangle is below δ and kept; one wider than δ is not. */
+TEST(LocalSampling, ABoundaryFacetKeepsItsBoundOnlyBelowTheDeltaAtEveryCorner)
+{
+  using dr::                operator+;
+  using dr::                operator-;
+  using dr::                operator*;
+  dr::detail::LocalSampling sizing(Delta);
+  sizing.AddZone(ZoneCenter, 0.25, 0.75);
+  const double      halfSide = 0.5 * std::sqrt(3.0) / 2.0;
+  const dr::Vector3 inZone = AlongX(0.5);
+  const dr::Vector3 outside1{ { 1.25, halfSide, 0.0 } };
+  const dr::Vector3 outside2{ { 1.25, -halfSide, 0.0 } };
+  ASSERT_EQ(sizing.LocalDelta(inZone), 0.25);
+  ASSERT_EQ(sizing.LocalDelta(outside1), Delta);
+  ASSERT_EQ(sizing.LocalDelta(outside2), Delta);
+  EXPECT_FALSE(sizing.KeepsBoundaryFacetBound(inZone, outside1, outside2));
+  EXPECT_FALSE(sizing.KeepsBoundaryFacetBound(outside1, inZone, outside2));
+  EXPECT_FALSE(sizing.KeepsBoundaryFacetBound(outside1, outside2, inZone));
+
+  const dr::Vector3 away{ { 10.0, 0.0, 0.0 } };
+  EXPECT_TRUE(sizing.KeepsBoundaryFacetBound(inZone + away, outside1 + away, outside2 + away));
+  // Circumradius 1.1 > δ: the triangle above scaled by 2.2 about its centre, away from the zone.
+  EXPECT_FALSE(sizing.KeepsBoundaryFacetBound(
+    away + 2.2 * (inZone - AlongX(1.0)), away + 2.2 * (outside1 - AlongX(1.0)), away + 2.2 * (outside2 - AlongX(1.0))));
 }
