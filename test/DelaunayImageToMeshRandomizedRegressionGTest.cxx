@@ -26,6 +26,7 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
 #include <set>
 
 namespace
@@ -687,6 +688,192 @@ TEST(OracleDistance, LocalRegularizationOfSparseShapesAnswersAsAnOracleOfTheNewL
     }
   }
   EXPECT_GT(callsThatChangedVoxels, 20u);
+}
+
+/** Of equally near interface faces, ClosestSurfacePoint() takes one of the voxel with the smaller buffer offset
+ * (ImageLabelOracle::NearestInterfaceFace: "ties go to the voxel with the smaller buffer offset, then to the first
+ * face in axis order"). A single voxel of label 1 at index (4, 4, 4) in unit voxels: from its centre its six faces
+ * are half a voxel away, and so are the same faces seen from its six neighbours, which are interface voxels too. Of
+ * all these voxels the object's own has the smallest offset in the label image (whose region is the voxel padded by
+ * one), so the answer is one of its two faces along x, the first axis: (3.5, 4, 4) or (4.5, 4, 4). */
+TEST(OracleDistance, EquallyNearFacesGoToTheVoxelWithTheSmallerOffset)
+{
+  using ImageType = itk::Image<unsigned char, 3>;
+  const std::array<itk::SizeValueType, 3> size{ 9, 9, 9 };
+  const auto                              image = MakeImageInSpace<ImageType>(
+    size,
+    { 0, 0, 0 },
+    { 1.0, 1.0, 1.0 },
+    { 0.0, 0.0, 0.0 },
+    { { { { 1.0, 0.0, 0.0 } }, { { 0.0, 1.0, 0.0 } }, { { 0.0, 0.0, 1.0 } } } },
+    [&](std::size_t voxel) { return static_cast<unsigned char>(voxel == 4 + size[0] * (4 + size[1] * 4) ? 1 : 0); });
+  auto interpolator = itk::NearestNeighborInterpolateImageFunction<ImageType, double>::New();
+  interpolator->SetInputImage(image);
+  const itk::ImageLabelOracle<ImageType> oracle(image, interpolator, itk::ImageLabelMapping{});
+  const auto &                           region = oracle.GetLabelImage()->GetBufferedRegion();
+  ASSERT_EQ(region.GetIndex(), (itk::ImageLabelOracle<ImageType>::IndexType{ { 3, 3, 3 } }));
+  ASSERT_EQ(region.GetSize(), (itk::Size<3>{ { 3, 3, 3 } }));
+  const dr::SurfacePoint found = oracle.ClosestSurfacePoint({ { 4.0, 4.0, 4.0 } });
+  EXPECT_EQ(found.distance, 0.5);
+  EXPECT_TRUE(found.point[0] == 3.5 || found.point[0] == 4.5) << found.point[0];
+  EXPECT_EQ(found.point[1], 4.0);
+  EXPECT_EQ(found.point[2], 4.0);
+}
+
+// ---- The local regularisation's rule in one ball, against its statement ---------------------------------------
+
+/** The labels RegularizeAround() must leave after one place with joining off, computed here from the rule as
+ * ImageLabelOracle::RegularizeAround states it: in the ball (voxel centres within `radius` of the place, the label
+ * image's outer layer excepted) the place's label takes every voxel when it holds at least half of them, else gives
+ * its voxels to the label most frequent among the others there, the smaller on a tie. `own` and `counts` receive
+ * what the ball held, so that a case can check that it is the tie it was built to be. */
+template <typename TLabelImage>
+std::vector<typename TLabelImage::PixelType>
+LabelsAfterOneBall(const TLabelImage & labels, const dr::NonManifoldPlace & place, double radius, std::size_t & own,
+                   std::map<dr::Label, std::size_t> & counts)
+{
+  const auto & region = labels.GetBufferedRegion();
+  auto         interior = region;
+  interior.ShrinkByRadius(1);
+  std::vector<typename TLabelImage::PixelType> result(labels.GetBufferPointer(),
+                                                      labels.GetBufferPointer() + region.GetNumberOfPixels());
+  std::vector<std::size_t>                     inBall;
+  counts.clear();
+  for (itk::ImageRegionConstIteratorWithIndex<TLabelImage> it(&labels, interior); !it.IsAtEnd(); ++it)
+  {
+    typename TLabelImage::PointType centre;
+    labels.TransformIndexToPhysicalPoint(it.GetIndex(), centre);
+    if (dr::Distance({ centre[0], centre[1], centre[2] }, place.point) <= radius)
+    {
+      inBall.push_back(static_cast<std::size_t>(labels.ComputeOffset(it.GetIndex())));
+      ++counts[static_cast<dr::Label>(it.Get())];
+    }
+  }
+  own = counts.count(place.label) ? counts[place.label] : 0;
+  if (2 * own >= inBall.size())
+  {
+    for (const std::size_t offset : inBall)
+    {
+      result[offset] = static_cast<typename TLabelImage::PixelType>(place.label);
+    }
+    return result;
+  }
+  dr::Label   other = place.label;
+  std::size_t most = 0;
+  for (const auto & [label, count] : counts) // in increasing label order: a later label must hold more to win
+  {
+    if (label != place.label && count > most)
+    {
+      other = label;
+      most = count;
+    }
+  }
+  for (const std::size_t offset : inBall)
+  {
+    if (result[offset] == static_cast<typename TLabelImage::PixelType>(place.label))
+    {
+      result[offset] = static_cast<typename TLabelImage::PixelType>(other);
+    }
+  }
+  return result;
+}
+
+/** RegularizeAround() on one place of a hand-made tie, with the voxel pinches not joined (the mapping's default),
+ * against LabelsAfterOneBall(); then the promise on the balls it returns: each changed voxel lies a voxel diagonal
+ * within a returned ball (the trilinear values change in the cubes around a changed voxel's centre). Unit voxels,
+ * no rotation: the ball of radius 1.2 about (4.5, 4, 4) holds the ten voxel centres x in {4, 5}, (y, z) in
+ * {(4, 4), (3, 4), (5, 4), (4, 3), (4, 5)}, at 0.5 and 1.118 of its centre; the next are 1.5 away. Far from the
+ * ties of a distance with radius, so rounding cannot move a voxel in or out. */
+template <typename TLabelOf>
+void
+CheckOneBall(const TLabelOf & labelOf, dr::Label placeLabel, std::size_t expectedOwn,
+             std::map<dr::Label, std::size_t> expectedCounts, const std::string & name)
+{
+  SCOPED_TRACE(name);
+  using ImageType = itk::Image<unsigned char, 3>;
+  const std::array<itk::SizeValueType, 3> size{ 10, 9, 9 };
+  const auto                              image = MakeImageInSpace<ImageType>(
+    size,
+    { 0, 0, 0 },
+    { 1.0, 1.0, 1.0 },
+    { 0.0, 0.0, 0.0 },
+    { { { { 1.0, 0.0, 0.0 } }, { { 0.0, 1.0, 0.0 } }, { { 0.0, 0.0, 1.0 } } } },
+    [&](std::size_t voxel) {
+      return static_cast<unsigned char>(labelOf(static_cast<int>(voxel % size[0]),
+                                                static_cast<int>(voxel / size[0] % size[1]),
+                                                static_cast<int>(voxel / (size[0] * size[1]))));
+    });
+  auto interpolator = itk::NearestNeighborInterpolateImageFunction<ImageType, double>::New();
+  interpolator->SetInputImage(image);
+  itk::ImageLabelOracle<ImageType> oracle(image, interpolator, itk::ImageLabelMapping{});
+  const auto *                     labels = oracle.GetLabelImage();
+  const dr::NonManifoldPlace       place{ { { 4.5, 4.0, 4.0 } }, placeLabel };
+  constexpr double                 radius = 1.2;
+  std::size_t                      own = 0;
+  std::map<dr::Label, std::size_t> counts;
+  const auto                       expected = LabelsAfterOneBall(*labels, place, radius, own, counts);
+  ASSERT_EQ(own, expectedOwn) << "the case is no longer the tie it was built to be";
+  ASSERT_EQ(counts, expectedCounts) << "the case is no longer the tie it was built to be";
+  using VoxelLabel = itk::ImageLabelOracle<ImageType>::VoxelLabelType;
+  const std::vector<VoxelLabel> before(labels->GetBufferPointer(),
+                                       labels->GetBufferPointer() + labels->GetBufferedRegion().GetNumberOfPixels());
+  const std::vector<dr::Ball>   balls = oracle.RegularizeAround({ place }, radius);
+  ASSERT_EQ(oracle.GetLabelImage(), labels);
+  const std::vector<VoxelLabel> after(labels->GetBufferPointer(),
+                                      labels->GetBufferPointer() + labels->GetBufferedRegion().GetNumberOfPixels());
+  ASSERT_NE(after, before) << "the ball changed nothing";
+  for (std::size_t offset = 0; offset < after.size(); ++offset)
+  {
+    ASSERT_EQ(int{ after[offset] }, int{ expected[offset] })
+      << "at " << labels->ComputeIndex(static_cast<itk::OffsetValueType>(offset));
+  }
+  const double diagonal = std::sqrt(3.0);
+  for (std::size_t offset = 0; offset < after.size(); ++offset)
+  {
+    if (after[offset] == before[offset])
+    {
+      continue;
+    }
+    ImageType::PointType centre;
+    labels->TransformIndexToPhysicalPoint(labels->ComputeIndex(static_cast<itk::OffsetValueType>(offset)), centre);
+    const dr::Vector3 point{ centre[0], centre[1], centre[2] };
+    EXPECT_TRUE(std::any_of(balls.begin(),
+                            balls.end(),
+                            [&](const dr::Ball & ball) {
+                              return dr::Distance(point, ball.center) + diagonal <= ball.radius * (1.0 + RoundingSlack);
+                            }))
+      << "no returned ball reaches a voxel diagonal past the changed voxel at " << point[0] << ", " << point[1] << ", "
+      << point[2];
+  }
+}
+
+/** The place's label holds exactly half of the ball: it takes every voxel (at least half), whichever of the two
+ * tissues the place is of. The image is two tissues meeting at x = 4.5, through the ball's centre. */
+TEST(LocalRegularization, APlaceHoldingHalfOfItsBallFillsIt)
+{
+  const auto halves = [](int x, int, int) { return x <= 4 ? 1 : 2; };
+  CheckOneBall(halves, 1, 5, { { 1, 5 }, { 2, 5 } }, "the place of tissue 1");
+  CheckOneBall(halves, 2, 5, { { 1, 5 }, { 2, 5 } }, "the place of tissue 2");
+}
+
+/** The place's label holds 2 of the ball's 10 voxels, and two others 4 each: its voxels go to the smaller of those
+ * two, 2, not to 5. The image is tissue 1 but for the ball: the place's tissue 3 on its axis, 2 at x = 4 and 5 at
+ * x = 5 around it. */
+TEST(LocalRegularization, APlaceGivesItsVoxelsToTheSmallerOfTwoEquallyFrequentLabels)
+{
+  const auto tie = [](int x, int y, int z) {
+    const bool inBall = (x == 4 || x == 5) && std::abs(y - 4) + std::abs(z - 4) <= 1;
+    if (!inBall)
+    {
+      return 1;
+    }
+    if (y == 4 && z == 4)
+    {
+      return 3;
+    }
+    return x == 4 ? 2 : 5;
+  };
+  CheckOneBall(tie, 3, 2, { { 2, 4 }, { 3, 2 }, { 5, 4 } }, "the place of tissue 3");
 }
 
 } // namespace

@@ -33,6 +33,7 @@
 #include "itkCommand.h"
 #include "itkImageFileReader.h"
 #include "itkImageRegionConstIterator.h"
+#include "itkImageRegionConstIteratorWithIndex.h"
 #include "itkLabelImageGaussianInterpolateImageFunction.h"
 
 #include <gtest/gtest.h>
@@ -948,6 +949,69 @@ TEST(Voxelizer, ObliqueBallComesBackOnItsOwnGrid)
   EXPECT_LT(differing, shifted);
 }
 
+/** "A centre on a facet shared by two tetrahedra takes the label of the one that comes first in the mesh's cell
+ * order" (itkTetrahedralMeshVoxelizer.h). Two tetrahedra on either side of the triangle (0, 0, 0), (4, 0, 0),
+ * (0, 4, 0) in the plane z = 0 of a unit grid: the voxel centres (i, j, 0) with i, j >= 0 and i + j <= 4 lie on
+ * that facet, exactly (integer coordinates, an axis-aligned facet). They take the first cell's label whichever of
+ * the two tetrahedra comes first; the centres off the facet take their own tetrahedron's. */
+TEST(Voxelizer, ACentreOnASharedFacetTakesTheFirstCellsLabel)
+{
+  auto grid = LabelImageType::New();
+  grid->SetRegions(LabelImageType::RegionType({ { -1, -1, -5 } }, { { 7, 7, 11 } }));
+  for (const bool upperFirst : { true, false })
+  {
+    SCOPED_TRACE(upperFirst ? "the tetrahedron above the facet first" : "the tetrahedron below the facet first");
+    auto mesh = MeshType::New();
+    for (const auto & [id, x, y, z] : std::vector<std::array<double, 4>>{ { 0, 0.0, 0.0, 0.0 },
+                                                                          { 1, 4.0, 0.0, 0.0 },
+                                                                          { 2, 0.0, 4.0, 0.0 },
+                                                                          { 3, 0.0, 0.0, 4.0 },
+                                                                          { 4, 0.0, 0.0, -4.0 } })
+    {
+      MeshType::PointType point;
+      point[0] = x;
+      point[1] = y;
+      point[2] = z;
+      mesh->SetPoint(static_cast<MeshType::PointIdentifier>(id), point);
+    }
+    const std::array<MeshType::PointIdentifier, 2> apexes =
+      upperFirst ? std::array<MeshType::PointIdentifier, 2>{ 3, 4 } : std::array<MeshType::PointIdentifier, 2>{ 4, 3 };
+    for (unsigned int cellId = 0; cellId < 2; ++cellId)
+    {
+      MeshType::CellAutoPointer cell;
+      cell.TakeOwnership(new itk::TetrahedronCell<MeshType::CellType>);
+      const MeshType::PointIdentifier corners[4] = { 0, 1, 2, apexes[cellId] };
+      for (unsigned int corner = 0; corner < 4; ++corner)
+      {
+        cell->SetPointId(corner, corners[corner]);
+      }
+      mesh->SetCell(cellId, cell);
+      mesh->SetCellData(cellId, static_cast<MeshType::CellPixelType>(10 + cellId));
+    }
+    const auto  voxelized = itk::VoxelizeTetrahedralMesh<LabelImageType>(*mesh, *grid);
+    std::size_t onTheFacet = 0;
+    for (itk::ImageRegionConstIteratorWithIndex<LabelImageType> it(voxelized, voxelized->GetBufferedRegion());
+         !it.IsAtEnd();
+         ++it)
+    {
+      const auto & index = it.GetIndex();
+      const bool   inTriangle = index[0] >= 0 && index[1] >= 0 && index[0] + index[1] + std::abs(index[2]) <= 4;
+      int          expected = 0;
+      if (inTriangle && index[2] == 0)
+      {
+        expected = 10; // the first cell's
+        ++onTheFacet;
+      }
+      else if (inTriangle)
+      {
+        expected = (index[2] > 0) == upperFirst ? 10 : 11;
+      }
+      ASSERT_EQ(int{ it.Get() }, expected) << "at " << index;
+    }
+    EXPECT_EQ(onTheFacet, 15u);
+  }
+}
+
 // ---- The k-means segmentation: five tissues -------------------------------------------------------------
 
 /** Label 1 is the background class: 729,202 of the 1,015,808 voxels and 92 % of the border voxels. Labels 2..6
@@ -1744,6 +1808,35 @@ TEST(BadInput, MaximumNumberOfVertices)
     auto filter = FilterFor(SmallBall().GetPointer(), 2.0);
     filter->SetMaximumNumberOfVertices(limit);
     ExpectExceptionNaming(*filter, "MaximumNumberOfVertices");
+  }
+}
+
+/** The documented range of RegularizationScale is [0, 0.5], both ends included: the filter's own check, which no
+ * other test reached (the command line checks its option itself). Just outside either end is refused, naming the
+ * parameter; each end meshes. The small ball's radius, 8 voxels, holds the opening's ball at the largest scale
+ * (0.5 x 2 = 1 mm), so the ends give a mesh with the guarantees. */
+TEST(BadInput, RegularizationScale)
+{
+  for (const double scale : { -1e-12,
+                              std::nextafter(FilterType::LargestRegularizationScale, 1.0),
+                              1.0,
+                              std::numeric_limits<double>::quiet_NaN(),
+                              std::numeric_limits<double>::infinity() })
+  {
+    SCOPED_TRACE("scale " + std::to_string(scale));
+    auto filter = FilterFor(SmallBall().GetPointer(), 2.0);
+    filter->SetRegularizationScale(scale);
+    ExpectExceptionNaming(*filter, "RegularizationScale");
+  }
+  EXPECT_EQ(FilterType::LargestRegularizationScale, 0.5);
+  for (const double scale : { 0.0, FilterType::LargestRegularizationScale })
+  {
+    SCOPED_TRACE("scale " + std::to_string(scale));
+    auto filter = FilterFor(SmallBall().GetPointer(), 2.0);
+    filter->SetRegularizationScale(scale);
+    std::unique_ptr<Meshed<FilterType>> meshed;
+    ASSERT_NO_THROW(meshed = RunFilter<FilterType>(filter));
+    ExpectGuarantees(*meshed);
   }
 }
 
