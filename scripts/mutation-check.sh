@@ -182,6 +182,24 @@
 #   facet-bound-two-corners       the check that a facet a relabelling or a peeled cap puts on a boundary is narrower
 #                                 than the local delta reads the delta at two of its corners, not three; caught by
 #                                 LocalSampling.ABoundaryFacetKeepsItsBoundOnlyBelowTheDeltaAtEveryCorner
+#   Bugs in the filter's range check, the voxeliser and the image oracle (added 2026-12-02, fifth stop), each passing
+#   every test before it but the pinned meshes (run by hand; the three oracle ones together on the whole suite, where
+#   only the two fingerprints and the k-means baseline failed besides the new tests):
+#   regularization-scale-half-rejected the filter refuses RegularizationScale 0.5, the end of its documented range
+#                                 [0, 0.5] (the whole suite passed; only the command line checked its own option);
+#                                 now caught by BadInput.RegularizationScale
+#   voxelizer-last-cell-wins      a voxel centre on a facet shared by two tetrahedra takes the last one's label, not
+#                                 the first's (the 77 tests of the two executables that voxelise passed); now caught
+#                                 by Voxelizer.ACentreOnASharedFacetTakesTheFirstCellsLabel
+#   ball-half-goes-to-other       the local regularisation's ball gives the place's voxels away when its label holds
+#                                 exactly half of the ball, instead of filling it; now caught by
+#                                 LocalRegularization.APlaceHoldingHalfOfItsBallFillsIt
+#   ball-tie-to-larger-label      of two other labels equally frequent in the ball, the place's voxels go to the
+#                                 larger, not the smaller; now caught by
+#                                 LocalRegularization.APlaceGivesItsVoxelsToTheSmallerOfTwoEquallyFrequentLabels
+#   face-tie-to-larger-offset     of equally near interface faces, the closest surface point is one of the voxel with
+#                                 the larger buffer offset, not the smaller; now caught by
+#                                 OracleDistance.EquallyNearFacesGoToTheVoxelWithTheSmallerOffset
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -379,7 +397,8 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   voxel-volume-determinant-sign cli-one-time-point-rejected cli-one-time-point-direction-dropped
   report-merge-labels-unrecorded places-first-label-only values-beyond-labels-accepted labels-beyond-clamped
   cli-wide-integers-as-int32 cli-vector-images-read manifold-levels-limit-exclusive link-of-two-edges-a-cycle
-  flat-facets-oriented facet-bound-two-corners)
+  flat-facets-oriented facet-bound-two-corners regularization-scale-half-rejected voxelizer-last-cell-wins
+  ball-half-goes-to-other ball-tie-to-larger-label face-tie-to-larger-offset)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -922,6 +941,28 @@ apply_mutation() {
     facet-bound-two-corners)
       mutate "$tree/src/DelaunayRefinementSizing.h" 'std::min({ LocalDelta(a), LocalDelta(b), LocalDelta(c) })' \
         'std::min(LocalDelta(a), LocalDelta(b))'
+      ;;
+    regularization-scale-half-rejected)
+      mutate "$tree/include/itkDelaunayImageToMeshFilter.hxx" 'm_RegularizationScale <= LargestRegularizationScale' \
+        'm_RegularizationScale < LargestRegularizationScale'
+      ;;
+    voxelizer-last-cell-wins)
+      mutate "$tree/include/itkTetrahedralMeshVoxelizer.hxx" \
+        'for (auto id = tetrahedronIds.rbegin(); id != tetrahedronIds.rend(); ++id)' \
+        'for (auto id = tetrahedronIds.begin(); id != tetrahedronIds.end(); ++id)'
+      ;;
+    ball-half-goes-to-other)
+      mutate "$tree/include/itkImageLabelOracleRegularization.hxx" \
+        '2 * own < static_cast<SizeValueType>(inside.size())' '2 * own <= static_cast<SizeValueType>(inside.size())'
+      ;;
+    ball-tie-to-larger-label)
+      mutate "$tree/include/itkImageLabelOracleRegularization.hxx" \
+        'if (label != place.label && count > mostFrequent)' 'if (label != place.label && count >= mostFrequent)'
+      ;;
+    face-tie-to-larger-offset)
+      mutate "$tree/include/itkImageLabelOracle.hxx" \
+        '(squaredDistance == nearestSquaredDistance && voxel < nearestVoxel)' \
+        '(squaredDistance == nearestSquaredDistance && voxel > nearestVoxel)'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2
