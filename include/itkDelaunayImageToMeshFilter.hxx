@@ -20,6 +20,7 @@
 
 #include "itkDelaunayImageToMeshFilter.h"
 #include "itkImageLabelOracle.h"
+#include "itkImageLabelSelection.h"
 
 #include "itkLinearInterpolateImageFunction.h"
 #include "itkNearestNeighborInterpolateImageFunction.h"
@@ -117,24 +118,28 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::ValidateInput(const InputIm
     itkExceptionMacro(<< "The input image's buffered region is empty (size " << region.GetSize()
                       << "): there is nothing to mesh.");
   }
-  // Where each label is a tissue, a value must round to a label (ImageLabelSelection::LabelOf()): one beyond them,
-  // clamped, would join another tissue or become a label the file never held (a 32-bit unsigned 4,000,000,000).
-  // With an iso-value only the values' order matters; merged or selected labels meet no other label by rounding.
-  const bool       valuesAreLabels = !m_UseIsoValue && !m_MergeLabels && m_Labels.empty();
-  constexpr double largestLabel = static_cast<double>(std::numeric_limits<LabelType>::max());
-  constexpr bool   mayNotBeFinite = std::is_floating_point_v<InputPixelType>;
-  constexpr bool   mayNotBeALabel =
-    mayNotBeFinite || static_cast<double>(NumericTraits<InputPixelType>::NonpositiveMin()) < -largestLabel ||
-    static_cast<double>(NumericTraits<InputPixelType>::max()) > largestLabel;
+  // Where each label is a tissue, a value must round to a label (ImageLabelSelection::RoundsToALabel()): one beyond
+  // them, clamped, would join another tissue or become a label the file never held (a 32-bit unsigned
+  // 4,000,000,000). With an iso-value only the values' order matters; merged or selected labels meet no other label
+  // by rounding.
+  using Selection = ImageLabelSelection;
+  const bool     valuesAreLabels = !m_UseIsoValue && !m_MergeLabels && m_Labels.empty();
+  constexpr bool mayNotBeFinite = std::is_floating_point_v<InputPixelType>;
+  constexpr bool mayNotBeALabel =
+    mayNotBeFinite ||
+    !Selection::RoundsToALabel(static_cast<double>(NumericTraits<InputPixelType>::NonpositiveMin())) ||
+    !Selection::RoundsToALabel(static_cast<double>(NumericTraits<InputPixelType>::max()));
   if (!mayNotBeFinite && !(valuesAreLabels && mayNotBeALabel))
   {
     return;
   }
-  // Every value below the bound in magnitude (NaN and infinities never are), tested branch-free over the raw buffer
-  // a block at a time, which the compiler vectorises: an iterator's bookkeeping per voxel would cost more than the
-  // test. Only a failing block is searched for the voxel the message names.
-  const double bound = valuesAreLabels ? largestLabel + 0.5 : std::numeric_limits<double>::infinity();
-  const auto   rejected = [bound](InputPixelType value) { return !(std::abs(static_cast<double>(value)) < bound); };
+  // Tested branch-free over the raw buffer a block at a time, which the compiler vectorises: an iterator's
+  // bookkeeping per voxel would cost more than the test. Only a failing block is searched for the voxel the message
+  // names.
+  const auto rejected = [valuesAreLabels](InputPixelType pixel) {
+    const double value = static_cast<double>(pixel);
+    return !std::isfinite(value) | (valuesAreLabels & !Selection::RoundsToALabel(value));
+  };
   const InputPixelType * const values = image->GetBufferPointer();
   const SizeValueType          count = region.GetNumberOfPixels();
   constexpr SizeValueType      block = 4096;
@@ -160,7 +165,7 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::ValidateInput(const InputIm
     }
     itkExceptionMacro(<< "The input image holds the value " << std::setprecision(17) << value << " at index " << index
                       << ", which rounds to no label: each label is a tissue, and labels are the integers in ["
-                      << -largestLabel << ", " << largestLabel
+                      << -Selection::LargestLabel << ", " << Selection::LargestLabel
                       << "] (MergeLabels, Labels or an IsoValue read other values).");
   }
 }

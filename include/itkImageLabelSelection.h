@@ -90,6 +90,16 @@ public:
     std::sort(m_SelectedLabels.begin(), m_SelectedLabels.end());
   }
 
+  /** The largest label; the labels are the integers of magnitude up to it (the output's cell data holds them). */
+  static constexpr double LargestLabel = static_cast<double>(std::numeric_limits<LabelType>::max());
+
+  /** Whether the value rounds to a label (NaN and infinities do not). */
+  static constexpr bool
+  RoundsToALabel(double value)
+  {
+    return (value < 0.0 ? -value : value) < LargestLabel + 0.5;
+  }
+
   /** The label a voxel value maps to. */
   LabelType
   LabelOf(double value) const
@@ -102,8 +112,7 @@ public:
     {
       return delaunay_refinement::BackgroundLabel;
     }
-    constexpr double largestLabel = static_cast<double>(std::numeric_limits<LabelType>::max());
-    if (!(std::abs(value) < largestLabel + 0.5))
+    if (!RoundsToALabel(value))
     {
       // It rounds to no label, so no selected one (the filter refuses such a value where each label is a tissue);
       // merged without a selection, every non-zero value is the object.

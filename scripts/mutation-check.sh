@@ -904,8 +904,8 @@ apply_mutation() {
       ;;
     values-beyond-labels-accepted)
       mutate "$tree/include/itkDelaunayImageToMeshFilter.hxx" \
-        'const double bound = valuesAreLabels ? largestLabel + 0.5 : std::numeric_limits<double>::infinity();' \
-        'const double bound = std::numeric_limits<double>::infinity();'
+        'return !std::isfinite(value) | (valuesAreLabels & !Selection::RoundsToALabel(value));' \
+        'return !std::isfinite(value);'
       ;;
     labels-beyond-clamped)
       mutate "$tree/include/itkImageLabelSelection.h" \

@@ -185,18 +185,6 @@ WriteLabelsAs(const LabelImageType * labels, const std::string & path)
   WriteImage(cast->GetOutput(), path);
 }
 
-/** The labels as 16-bit unsigned integers with 1 and 2 mapped to 40000 and 65535: values a signed 16-bit reading
- * would make negative. */
-void
-WriteLabelsAsHighUnsigned16Bit(const LabelImageType * labels, const std::string & path)
-{
-  const auto high = [](short label) -> uint16_t {
-    constexpr uint16_t values[3] = { 0, 40000, 65535 };
-    return values[label];
-  };
-  WriteImage(MappedLabels<uint16_t>(labels, high).GetPointer(), path);
-}
-
 /** The labels with 1 and 2 mapped to `first` and `second`, as an image of `TPixel`: label values a 32-bit signed
  * integer cannot hold, or that a float cannot tell apart. */
 template <typename TPixel>
@@ -348,7 +336,8 @@ main(int argc, char * argv[])
     }
     WriteLabelsAs<uint8_t>(labels, (directory / "labels-uint8.nrrd").string());
     WriteLabelsAs<uint16_t>(labels, (directory / "labels-uint16.nrrd").string());
-    WriteLabelsAsHighUnsigned16Bit(labels, (directory / "labels-uint16-high.nrrd").string());
+    // Values a signed 16-bit reading would make negative.
+    WriteLabelsRenamed<uint16_t>(labels, 40000, 65535, (directory / "labels-uint16-high.nrrd").string());
     WriteLabelsAsOneTimePoint(labels, (directory / "labels-one-time-point.mha").string());
     WriteLabelsAsOneTimePoint(labels, (directory / "labels-one-time-point.nii.gz").string());
     WriteLabelsAsOneTimePoint(labels, (directory / "labels-one-time-point.nrrd").string());

@@ -690,6 +690,25 @@ TEST(OracleDistance, LocalRegularizationOfSparseShapesAnswersAsAnOracleOfTheNewL
   EXPECT_GT(callsThatChangedVoxels, 20u);
 }
 
+/** An image of 8-bit labels on unit voxels at the origin, axis-aligned: voxel (i, j, k) has labelOf(i, j, k). The
+ * hand-made cases below, whose expected answers are worked out in voxel coordinates. */
+template <typename TLabelOf>
+itk::Image<unsigned char, 3>::Pointer
+UnitVoxelImage(const std::array<itk::SizeValueType, 3> & size, const TLabelOf & labelOf)
+{
+  return MakeImageInSpace<itk::Image<unsigned char, 3>>(
+    size,
+    { 0, 0, 0 },
+    { 1.0, 1.0, 1.0 },
+    { 0.0, 0.0, 0.0 },
+    { { { { 1.0, 0.0, 0.0 } }, { { 0.0, 1.0, 0.0 } }, { { 0.0, 0.0, 1.0 } } } },
+    [&](std::size_t voxel) {
+      return static_cast<unsigned char>(labelOf(static_cast<int>(voxel % size[0]),
+                                                static_cast<int>(voxel / size[0] % size[1]),
+                                                static_cast<int>(voxel / (size[0] * size[1]))));
+    });
+}
+
 /** Of equally near interface faces, ClosestSurfacePoint() takes one of the voxel with the smaller buffer offset
  * (ImageLabelOracle::NearestInterfaceFace: "ties go to the voxel with the smaller buffer offset, then to the first
  * face in axis order"). A single voxel of label 1 at index (4, 4, 4) in unit voxels: from its centre its six faces
@@ -699,14 +718,8 @@ TEST(OracleDistance, LocalRegularizationOfSparseShapesAnswersAsAnOracleOfTheNewL
 TEST(OracleDistance, EquallyNearFacesGoToTheVoxelWithTheSmallerOffset)
 {
   using ImageType = itk::Image<unsigned char, 3>;
-  const std::array<itk::SizeValueType, 3> size{ 9, 9, 9 };
-  const auto                              image = MakeImageInSpace<ImageType>(
-    size,
-    { 0, 0, 0 },
-    { 1.0, 1.0, 1.0 },
-    { 0.0, 0.0, 0.0 },
-    { { { { 1.0, 0.0, 0.0 } }, { { 0.0, 1.0, 0.0 } }, { { 0.0, 0.0, 1.0 } } } },
-    [&](std::size_t voxel) { return static_cast<unsigned char>(voxel == 4 + size[0] * (4 + size[1] * 4) ? 1 : 0); });
+  const auto image =
+    UnitVoxelImage({ 9, 9, 9 }, [](int i, int j, int k) { return i == 4 && j == 4 && k == 4 ? 1 : 0; });
   auto interpolator = itk::NearestNeighborInterpolateImageFunction<ImageType, double>::New();
   interpolator->SetInputImage(image);
   const itk::ImageLabelOracle<ImageType> oracle(image, interpolator, itk::ImageLabelMapping{});
@@ -791,19 +804,8 @@ CheckOneBall(const TLabelOf & labelOf, dr::Label placeLabel, std::size_t expecte
 {
   SCOPED_TRACE(name);
   using ImageType = itk::Image<unsigned char, 3>;
-  const std::array<itk::SizeValueType, 3> size{ 10, 9, 9 };
-  const auto                              image = MakeImageInSpace<ImageType>(
-    size,
-    { 0, 0, 0 },
-    { 1.0, 1.0, 1.0 },
-    { 0.0, 0.0, 0.0 },
-    { { { { 1.0, 0.0, 0.0 } }, { { 0.0, 1.0, 0.0 } }, { { 0.0, 0.0, 1.0 } } } },
-    [&](std::size_t voxel) {
-      return static_cast<unsigned char>(labelOf(static_cast<int>(voxel % size[0]),
-                                                static_cast<int>(voxel / size[0] % size[1]),
-                                                static_cast<int>(voxel / (size[0] * size[1]))));
-    });
-  auto interpolator = itk::NearestNeighborInterpolateImageFunction<ImageType, double>::New();
+  const auto image = UnitVoxelImage({ 10, 9, 9 }, labelOf);
+  auto       interpolator = itk::NearestNeighborInterpolateImageFunction<ImageType, double>::New();
   interpolator->SetInputImage(image);
   itk::ImageLabelOracle<ImageType> oracle(image, interpolator, itk::ImageLabelMapping{});
   const auto *                     labels = oracle.GetLabelImage();

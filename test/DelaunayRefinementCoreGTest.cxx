@@ -730,57 +730,45 @@ TEST(CoreParameters, InvalidValuesAreRejectedByName)
  * checked before, so a limit checked with < instead of <= (rejecting the largest documented level) went unseen. */
 TEST(CoreParameters, TheLimitsOfEveryRangeAreValidAndTheNextValuesAreNot)
 {
-  const auto validWith = [](const std::function<void(RefinementParameters &)> & change) {
+  using Change = std::function<void(RefinementParameters &)>;
+  // Valid parameters but for `change`.
+  const auto validWith = [](const Change & change) {
     RefinementParameters parameters = ParametersOf(1.0, 2.0);
     change(parameters);
     return parameters;
   };
-  EXPECT_NO_THROW(ValidateParameters(validWith(
-    [](RefinementParameters & p) { p.manifoldRefinementLevels = ParameterLimits::LargestManifoldRefinementLevels; })));
-  ExpectInvalidArgumentNaming(
-    [&] {
-      ValidateParameters(validWith([](RefinementParameters & p) {
-        p.manifoldRefinementLevels = ParameterLimits::LargestManifoldRefinementLevels + 1;
-      }));
-    },
+  // The parameter at its limit is valid; one step beyond, it is refused by name.
+  const auto expectLimit = [&](const Change & atLimit, const Change & beyond, const std::string & name) {
+    SCOPED_TRACE(name);
+    EXPECT_NO_THROW(ValidateParameters(validWith(atLimit)));
+    ExpectInvalidArgumentNaming([&] { ValidateParameters(validWith(beyond)); }, name);
+  };
+  expectLimit(
+    [](RefinementParameters & p) { p.manifoldRefinementLevels = ParameterLimits::LargestManifoldRefinementLevels; },
+    [](RefinementParameters & p) { p.manifoldRefinementLevels = ParameterLimits::LargestManifoldRefinementLevels + 1; },
     "manifoldRefinementLevels");
-  EXPECT_NO_THROW(ValidateParameters(validWith([](RefinementParameters & p) {
-    p.topologyRegularizationRounds = ParameterLimits::LargestTopologyRegularizationRounds;
-  })));
-  ExpectInvalidArgumentNaming(
-    [&] {
-      ValidateParameters(validWith([](RefinementParameters & p) {
-        p.topologyRegularizationRounds = ParameterLimits::LargestTopologyRegularizationRounds + 1;
-      }));
+  expectLimit(
+    [](RefinementParameters & p) {
+      p.topologyRegularizationRounds = ParameterLimits::LargestTopologyRegularizationRounds;
+    },
+    [](RefinementParameters & p) {
+      p.topologyRegularizationRounds = ParameterLimits::LargestTopologyRegularizationRounds + 1;
     },
     "topologyRegularizationRounds");
-  EXPECT_NO_THROW(ValidateParameters(validWith(
-    [](RefinementParameters & p) { p.maximumNumberOfVertices = ParameterLimits::SmallestMaximumNumberOfVertices; })));
-  ExpectInvalidArgumentNaming(
-    [&] {
-      ValidateParameters(validWith([](RefinementParameters & p) {
-        p.maximumNumberOfVertices = ParameterLimits::SmallestMaximumNumberOfVertices - 1;
-      }));
-    },
+  expectLimit(
+    [](RefinementParameters & p) { p.maximumNumberOfVertices = ParameterLimits::SmallestMaximumNumberOfVertices; },
+    [](RefinementParameters & p) { p.maximumNumberOfVertices = ParameterLimits::SmallestMaximumNumberOfVertices - 1; },
     "maximumNumberOfVertices");
-  EXPECT_NO_THROW(ValidateParameters(validWith(
-    [](RefinementParameters & p) { p.surfaceSamplingDistance = ParameterLimits::LargestSurfaceSamplingDistance; })));
-  ExpectInvalidArgumentNaming(
-    [&] {
-      ValidateParameters(validWith([](RefinementParameters & p) {
-        p.surfaceSamplingDistance =
-          std::nextafter(ParameterLimits::LargestSurfaceSamplingDistance, std::numeric_limits<double>::infinity());
-      }));
+  expectLimit(
+    [](RefinementParameters & p) { p.surfaceSamplingDistance = ParameterLimits::LargestSurfaceSamplingDistance; },
+    [](RefinementParameters & p) {
+      p.surfaceSamplingDistance =
+        std::nextafter(ParameterLimits::LargestSurfaceSamplingDistance, std::numeric_limits<double>::infinity());
     },
     "surfaceSamplingDistance");
-  EXPECT_NO_THROW(
-    ValidateParameters(validWith([](RefinementParameters & p) { p.minimumSurfaceSamplingDistance = 0.0; })));
-  ExpectInvalidArgumentNaming(
-    [&] {
-      ValidateParameters(validWith([](RefinementParameters & p) {
-        p.minimumSurfaceSamplingDistance = -std::numeric_limits<double>::denorm_min();
-      }));
-    },
+  expectLimit(
+    [](RefinementParameters & p) { p.minimumSurfaceSamplingDistance = 0.0; },
+    [](RefinementParameters & p) { p.minimumSurfaceSamplingDistance = -std::numeric_limits<double>::denorm_min(); },
     "minimumSurfaceSamplingDistance");
 }
 
