@@ -364,6 +364,14 @@
 #                                 integers (4,000,000,000 wraps to -294,967,296)
 #   cli-vector-images-read        the program meshes a file of several components a voxel (ITK makes one number of
 #                                 them)
+#   Bugs in the core's geometric measures (include/DelaunayRefinementGeometry.h), added 2026-12-03; each caught by
+#   the hand-made tetrahedra and triangles of test/DelaunayRefinementGeometryGTest.cxx:
+#   shortest-edge-skips-fourth-corner  a tetrahedron's shortest edge ignores the three edges to its fourth corner
+#   triangle-shortest-two-edges   a triangle's shortest edge ignores the edge from its third corner to its first
+#   radius-edge-margin-outward    R4's rounding margin lets a tetrahedron pass a little above the bound instead of
+#                                 counting one a little below it as reaching it
+#   planar-margin-below-30        a boundary triangle of exactly 30 degrees counts as above 30 (margin subtracted)
+#   dihedral-bound-on-at-zero     sigma = 0 turns the dihedral bound on instead of off
 # iso-values-not-carried, run on 2026-11-30 at cb6763c with DELAUNAY_MUTATION_CTEST_ARGS="-R
 # IsoSurface|HostileIso|TopologyOptions": caught by the two voxel-centre tests of IsoSurfaceRegularisation,
 # HostileIsoSurfaces OneVoxelSlit at delta = the spacing, and the randomized IsoSurfaces family.
@@ -398,7 +406,8 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   report-merge-labels-unrecorded places-first-label-only values-beyond-labels-accepted labels-beyond-clamped
   cli-wide-integers-as-int32 cli-vector-images-read manifold-levels-limit-exclusive link-of-two-edges-a-cycle
   flat-facets-oriented facet-bound-two-corners regularization-scale-half-rejected voxelizer-last-cell-wins
-  ball-half-goes-to-other ball-tie-to-larger-label face-tie-to-larger-offset)
+  ball-half-goes-to-other ball-tie-to-larger-label face-tie-to-larger-offset shortest-edge-skips-fourth-corner
+  triangle-shortest-two-edges radius-edge-margin-outward planar-margin-below-30 dihedral-bound-on-at-zero)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -963,6 +972,26 @@ apply_mutation() {
       mutate "$tree/include/itkImageLabelOracle.hxx" \
         '(squaredDistance == nearestSquaredDistance && voxel < nearestVoxel)' \
         '(squaredDistance == nearestSquaredDistance && voxel > nearestVoxel)'
+      ;;
+    shortest-edge-skips-fourth-corner)
+      mutate "$tree/include/DelaunayRefinementGeometry.h" 'for (int j = i + 1; j < 4; ++j)' 'for (int j = i + 1; j < 3; ++j)'
+      ;;
+    triangle-shortest-two-edges)
+      mutate "$tree/include/DelaunayRefinementGeometry.h" \
+        'SquaredNorm(a - b), SquaredNorm(b - c), SquaredNorm(c - a)' 'SquaredNorm(a - b), SquaredNorm(b - c)'
+      ;;
+    radius-edge-margin-outward)
+      mutate "$tree/include/DelaunayRefinementGeometry.h" \
+        'radiusEdgeBound * ShortestEdgeLength(corners) * (1.0 - RoundingMargin)' \
+        'radiusEdgeBound * ShortestEdgeLength(corners) * (1.0 + RoundingMargin)'
+      ;;
+    planar-margin-below-30)
+      mutate "$tree/include/DelaunayRefinementGeometry.h" \
+        '> 30.0 + PlanarAngleBoundMarginDegrees' '> 30.0 - PlanarAngleBoundMarginDegrees'
+      ;;
+    dihedral-bound-on-at-zero)
+      mutate "$tree/include/DelaunayRefinementGeometry.h" \
+        'm_IsOn(minimumDihedralAngle > 0.0)' 'm_IsOn(minimumDihedralAngle >= 0.0)'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2
