@@ -52,7 +52,7 @@ struct ImageLabelMapping;
  * which must lie in [-2147483647, 2147483647] (the labels the output's cell data can hold) when each label is a
  * tissue: a larger value is refused, not clamped into another tissue. Every value must be finite. Outside the image
  * everything is background, so objects touching the border are closed there. All geometry is in physical space:
- * spacing, origin and direction.
+ * spacing, origin and direction, which must be orthonormal (DirectionOrthonormalityTolerance).
  *
  * Output 0: the tetrahedra (TetrahedronCell), their tissue label as cell data. Output 1: the boundary and
  * interface triangles (TriangleCell) on the same points, oriented outwards from the tissue whose label is
@@ -160,6 +160,12 @@ public:
   static constexpr double DefaultRegularizationScale = 0.4;
   /** Beyond half of δ the opening would remove parts that hold a ball of diameter δ. */
   static constexpr double LargestRegularizationScale = 0.5;
+
+  /** The input's direction must be orthonormal (a rotation, or a reflection) to this tolerance on the dot products
+   * of its columns, or the filter refuses it: distances are measured along the voxel axes. A grid sheared by the
+   * acquisition (a CT gantry tilt) must be resampled first. Cosines written to six decimals (DICOM files often are)
+   * stay within it; the distances it lets through are off by at most 0.015 %. */
+  static constexpr double DirectionOrthonormalityTolerance = 1e-4;
 
   /** Where a boundary still comes out non-manifold after the refinement and the relabelling
    * (RelabelNonManifoldPlaces), the labels are regularised in a ball of radius δ around each such place (the place's
@@ -351,6 +357,9 @@ protected:
 private:
   void
   ValidateInput(const InputImageType * image) const;
+  /** The grid the oracle measures along: a positive, finite spacing and an orthonormal direction. */
+  void
+  ValidateGrid(const InputImageType & image) const;
   double
   ResolveSurfaceSamplingDistance(const InputImageType * image) const;
   InterpolatorPointer

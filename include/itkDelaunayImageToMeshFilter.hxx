@@ -31,6 +31,7 @@
 #include <cmath>
 #include <iomanip>
 #include <memory>
+#include <sstream>
 
 namespace itk
 {
@@ -118,6 +119,7 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::ValidateInput(const InputIm
     itkExceptionMacro(<< "The input image's buffered region is empty (size " << region.GetSize()
                       << "): there is nothing to mesh.");
   }
+  ValidateGrid(*image);
   // Where each label is a tissue, a value must round to a label (ImageLabelSelection::RoundsToALabel()): one beyond
   // them, clamped, would join another tissue or become a label the file never held (a 32-bit unsigned
   // 4,000,000,000). With an iso-value only the values' order matters; merged or selected labels meet no other label
@@ -167,6 +169,55 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::ValidateInput(const InputIm
                       << ", which rounds to no label: each label is a tissue, and labels are the integers in ["
                       << -Selection::LargestLabel << ", " << Selection::LargestLabel
                       << "] (MergeLabels, Labels or an IsoValue read other values).");
+  }
+}
+
+template <typename TInputImage, typename TOutputMesh>
+void
+DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::ValidateGrid(const InputImageType & image) const
+{
+  // Distances are measured with the spacing along each voxel axis: ITK's readers turn a negative spacing into a
+  // positive one and a flipped direction column (ImageFileReader), and the regularisation's reach, the automatic δ
+  // and the finest local δ all take it as a length.
+  const auto & spacing = image.GetSpacing();
+  for (unsigned int axis = 0; axis < ImageDimension; ++axis)
+  {
+    if (!(spacing[axis] > 0.0 && std::isfinite(spacing[axis])))
+    {
+      itkExceptionMacro(<< "The input image's spacing " << spacing << " is not positive and finite along axis " << axis
+                        << ": the valid range is (0, inf). Give a negative spacing's sign to the direction's column "
+                           "instead, as ITK's image readers do.");
+    }
+  }
+  // The oracle and the regularisation measure distances along the voxel axes, one spacing each (a diagonal metric in
+  // index space): a sheared grid would have every distance, and so every guarantee, silently wrong.
+  const auto & direction = image.GetDirection();
+  double       deviation = 0.0;
+  for (unsigned int i = 0; i < ImageDimension; ++i)
+  {
+    for (unsigned int j = 0; j < ImageDimension; ++j)
+    {
+      double dot = 0.0;
+      for (unsigned int k = 0; k < ImageDimension; ++k)
+      {
+        dot += direction[k][i] * direction[k][j];
+      }
+      deviation = std::max(deviation, std::abs(dot - (i == j ? 1.0 : 0.0)));
+    }
+  }
+  if (!(deviation <= DirectionOrthonormalityTolerance))
+  {
+    std::ostringstream rows;
+    for (unsigned int i = 0; i < ImageDimension; ++i)
+    {
+      rows << (i == 0 ? "[" : ", ") << '[' << direction[i][0] << ", " << direction[i][1] << ", " << direction[i][2]
+           << ']';
+    }
+    itkExceptionMacro(<< "The input image's direction (rows) " << rows.str()
+                      << "] is not orthonormal: the dot products of its columns differ from the identity's by "
+                      << deviation << ", beyond " << DirectionOrthonormalityTolerance
+                      << ". The mesher measures distances along the voxel axes, which must be perpendicular unit "
+                         "directions; resample the image onto an orthonormal grid (itk::ResampleImageFilter) first.");
   }
 }
 

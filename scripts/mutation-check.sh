@@ -372,6 +372,10 @@
 #                                 counting one a little below it as reaching it
 #   planar-margin-below-30        a boundary triangle of exactly 30 degrees counts as above 30 (margin subtracted)
 #   dihedral-bound-on-at-zero     sigma = 0 turns the dihedral bound on instead of off
+#   sheared-direction-accepted    the filter meshes an image whose direction is not orthonormal (its distances,
+#                                 measured along the voxel axes, are then wrong)
+#   negative-spacing-accepted     the filter meshes an image with a negative spacing (its regularisation's reach and
+#                                 finest local delta turn negative)
 # iso-values-not-carried, run on 2026-11-30 at cb6763c with DELAUNAY_MUTATION_CTEST_ARGS="-R
 # IsoSurface|HostileIso|TopologyOptions": caught by the two voxel-centre tests of IsoSurfaceRegularisation,
 # HostileIsoSurfaces OneVoxelSlit at delta = the spacing, and the randomized IsoSurfaces family.
@@ -407,7 +411,8 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   cli-wide-integers-as-int32 cli-vector-images-read manifold-levels-limit-exclusive link-of-two-edges-a-cycle
   flat-facets-oriented facet-bound-two-corners regularization-scale-half-rejected voxelizer-last-cell-wins
   ball-half-goes-to-other ball-tie-to-larger-label face-tie-to-larger-offset shortest-edge-skips-fourth-corner
-  triangle-shortest-two-edges radius-edge-margin-outward planar-margin-below-30 dihedral-bound-on-at-zero)
+  triangle-shortest-two-edges radius-edge-margin-outward planar-margin-below-30 dihedral-bound-on-at-zero
+  sheared-direction-accepted negative-spacing-accepted)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -992,6 +997,16 @@ apply_mutation() {
     dihedral-bound-on-at-zero)
       mutate "$tree/include/DelaunayRefinementGeometry.h" \
         'm_IsOn(minimumDihedralAngle > 0.0)' 'm_IsOn(minimumDihedralAngle >= 0.0)'
+      ;;
+    sheared-direction-accepted)
+      mutate "$tree/include/itkDelaunayImageToMeshFilter.hxx" \
+        'if (!(deviation <= DirectionOrthonormalityTolerance))' \
+        'if (false && !(deviation <= DirectionOrthonormalityTolerance))'
+      ;;
+    negative-spacing-accepted)
+      mutate "$tree/include/itkDelaunayImageToMeshFilter.hxx" \
+        'if (!(spacing[axis] > 0.0 && std::isfinite(spacing[axis])))' \
+        'if (false && !(spacing[axis] > 0.0 && std::isfinite(spacing[axis])))'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2

@@ -46,6 +46,7 @@ def error_cases(image, output):
     with open(not_an_image, "w", encoding="utf-8") as file:
         file.write("this is text, not an image\n")
     os.makedirs(empty_directory, exist_ok=True)
+    sheared = write_sheared_image(output)
     bad_delta = write_config(output, "bad-delta.toml", "delta = -1\n")
     misspelt = write_config(output, "misspelt.toml", "delt = 2\n")
     # The ranges are the refinement core's (ValidateParameters): its message follows the option's name.
@@ -101,9 +102,26 @@ def error_cases(image, output):
         ([beside("labels-int64-beyond.nrrd"), mesh], "The input image holds the value 8589934593 at index"),
         ([beside("labels-vector.nrrd"), mesh], "cannot mesh input '" + beside("labels-vector.nrrd") +
          "': its voxels have 3 components"),
+        # Distances are measured along the voxel axes: a sheared grid is refused, not meshed wrongly.
+        ([sheared, mesh], "meshing failed: The input image's direction (rows) [[1, 0.5, 0], [0, 1, 0], [0, 0, 1]] is "
+         "not orthonormal"),
         ([image, mesh, "--delta", "1", "--max-vertices", "20"],
          "meshing failed: Delaunay refinement reached maximumNumberOfVertices = 20 vertices"),
     ]
+
+
+def write_sheared_image(directory):
+    """A MetaImage of a 6-voxel cube of label 1 in a 10^3 grid whose second axis leans on the first: direction
+    columns (1, 0, 0) and (0.5, 1, 0), as a CT gantry tilt gives."""
+    path = os.path.join(directory, "sheared.mha")
+    header = ("ObjectType = Image\nNDims = 3\nBinaryData = True\nBinaryDataByteOrderMSB = False\n"
+              "DimSize = 10 10 10\nElementSpacing = 1 1 1\nOffset = 0 0 0\nTransformMatrix = 1 0 0 0.5 1 0 0 0 1\n"
+              "ElementType = MET_UCHAR\nElementDataFile = LOCAL\n")
+    voxels = bytes(1 if all(2 <= c < 8 for c in (x, y, z)) else 0
+                   for z in range(10) for y in range(10) for x in range(10))
+    with open(path, "wb") as file:
+        file.write(header.encode("ascii") + voxels)
+    return path
 
 
 def write_config(directory, name, text):

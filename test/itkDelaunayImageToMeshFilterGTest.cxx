@@ -1840,6 +1840,62 @@ TEST(BadInput, RegularizationScale)
   }
 }
 
+/** ITK's readers give a negative spacing's sign to the direction instead (ImageFileReader); an image made in code can
+ * still carry one, which would turn the regularisation's reach and the automatic δ negative: it is refused, naming
+ * the spacing. */
+TEST(BadInput, SpacingThatIsNotPositive)
+{
+  for (const auto & values :
+       { std::array<double, 3>{ { 1.0, -1.0, 1.0 } }, std::array<double, 3>{ { -2.0, -2.0, -2.0 } } })
+  {
+    auto image = LabelImageType::New();
+    image->Graft(SmallBall());
+    LabelImageType::SpacingType spacing;
+    std::copy(values.begin(), values.end(), spacing.Begin());
+    image->SetSpacing(spacing);
+    auto filter = FilterFor(image.GetPointer(), 2.0);
+    ExpectExceptionNaming(*filter, "The input image's spacing [");
+    ExpectExceptionNaming(*filter, "the valid range is (0, inf)");
+  }
+}
+
+/** Distances are measured along the voxel axes, so a direction that is not a rotation or a reflection is refused,
+ * naming the direction: a shear (a CT gantry tilt), a column that is not a unit vector (ITK itself aborts on a NaN
+ * there, in SetDirection()). A rotation written to
+ * six decimals, as DICOM files often have it, is accepted and meshes with the guarantees. */
+TEST(BadInput, DirectionThatIsNotOrthonormal)
+{
+  const auto withDirection = [](const LabelImageType::DirectionType & direction) {
+    auto image = LabelImageType::New();
+    image->Graft(SmallBall());
+    image->SetDirection(direction);
+    return FilterFor(image.GetPointer(), 2.0);
+  };
+  LabelImageType::DirectionType sheared = IdentityDirection();
+  sheared[0][1] = 0.2;
+  LabelImageType::DirectionType stretched = IdentityDirection();
+  stretched[1][1] = 1.001;
+  for (const auto & direction : { sheared, stretched })
+  {
+    auto filter = withDirection(direction);
+    ExpectExceptionNaming(*filter, "direction (rows) [[");
+    ExpectExceptionNaming(*filter, "is not orthonormal");
+  }
+
+  LabelImageType::DirectionType rounded = ObliqueDirection();
+  for (unsigned int row = 0; row < 3; ++row)
+  {
+    for (unsigned int column = 0; column < 3; ++column)
+    {
+      rounded[row][column] = std::round(rounded[row][column] * 1e6) / 1e6;
+    }
+  }
+  ASSERT_NE(rounded, ObliqueDirection()) << "the rounding must leave the rotation";
+  std::unique_ptr<Meshed<FilterType>> meshed;
+  ASSERT_NO_THROW(meshed = RunFilter<FilterType>(withDirection(rounded)));
+  ExpectGuarantees(*meshed);
+}
+
 // σ > 0 (R4'): no theorem, but the core promises every output tetrahedron at least σ.
 TEST(Parameters, MinimumDihedralAngleIsHonoured)
 {
