@@ -52,7 +52,7 @@ struct ImageLabelMapping;
  * which must lie in [-2147483647, 2147483647] (the labels the output's cell data can hold) when each label is a
  * tissue: a larger value is refused, not clamped into another tissue. Every value must be finite. Outside the image
  * everything is background, so objects touching the border are closed there. All geometry is in physical space:
- * spacing, origin and direction, which must be orthonormal (DirectionOrthonormalityTolerance).
+ * spacing (positive), origin and direction, which must be orthonormal (DirectionOrthonormalityTolerance).
  *
  * Output 0: the tetrahedra (TetrahedronCell), their tissue label as cell data. Output 1: the boundary and
  * interface triangles (TriangleCell) on the same points, oriented outwards from the tissue whose label is
