@@ -200,6 +200,22 @@
 #   face-tie-to-larger-offset     of equally near interface faces, the closest surface point is one of the voxel with
 #                                 the larger buffer offset, not the smaller; now caught by
 #                                 OracleDistance.EquallyNearFacesGoToTheVoxelWithTheSmallerOffset
+#   Bugs in R4′'s moves of a corner (added 2026-12-03), a file few deliberate bugs had reached; run by hand on the
+#   GoogleTest executables (the fingerprints left aside, which see every one of them):
+#   moves-stop-a-level-short      R4′'s moves stop one acceptance level short of the one allowed (acceptance < the last
+#                                 level, not <=): a sliver gets no move at all, a flat tetrahedron never its last level;
+#                                 the meshes kept every guarantee, and only the fingerprints and the case check of
+#                                 RandomizedRegression.BoundaryWithinTheSurfaceBallsTieMargin ("the case is no longer
+#                                 the one") failed; now caught by SliverPerturbation.AFlatTetrahedronMovesAtTheLevelIt-
+#                                 IsAllowedOnly
+#   move-keeps-a-worse-angle      a move is kept only when the smallest dihedral angle it makes is no larger than the
+#                                 star's before (the comparison turned round); caught by RandomizedRegression.
+#                                 FlatTetrahedraLeftAfterTheRefinementAreMovedAway, the SaltAndPepper and SheetsAndLines
+#                                 families, and the test above
+#   flat-corner-moves-inwards     a flat tetrahedron's corner moves in its plane towards the others' centre, not away
+#                                 from it (the move still breaks the co-circularity, so every mesh kept its guarantees:
+#                                 only the brain-mask and k-means fingerprints failed); now caught by
+#                                 SliverPerturbation.AFlatTetrahedronMovesAtTheLevelItIsAllowedOnly
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -412,7 +428,8 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   flat-facets-oriented facet-bound-two-corners regularization-scale-half-rejected voxelizer-last-cell-wins
   ball-half-goes-to-other ball-tie-to-larger-label face-tie-to-larger-offset shortest-edge-skips-fourth-corner
   triangle-shortest-two-edges radius-edge-margin-outward planar-margin-below-30 dihedral-bound-on-at-zero
-  sheared-direction-accepted negative-spacing-accepted)
+  sheared-direction-accepted negative-spacing-accepted moves-stop-a-level-short move-keeps-a-worse-angle
+  flat-corner-moves-inwards)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -1007,6 +1024,19 @@ apply_mutation() {
       mutate "$tree/include/itkDelaunayImageToMeshFilter.hxx" \
         'if (!(spacing[axis] > 0.0 && std::isfinite(spacing[axis])))' \
         'if (false && !(spacing[axis] > 0.0 && std::isfinite(spacing[axis])))'
+      ;;
+    moves-stop-a-level-short)
+      mutate "$tree/src/DelaunayRefinementSliverPerturbation.h" \
+        'for (Acceptance acceptance = Acceptance::EveryRule; acceptance <= lastLevel;' \
+        'for (Acceptance acceptance = Acceptance::EveryRule; acceptance < lastLevel;'
+      ;;
+    move-keeps-a-worse-angle)
+      mutate "$tree/src/DelaunayRefinementSliverPerturbation.h" 'if (!(cosineAfter < cosineBefore))' \
+        'if (cosineAfter < cosineBefore)'
+      ;;
+    flat-corner-moves-inwards)
+      mutate "$tree/src/DelaunayRefinementSliverPerturbation.h" 'const Vector3 outward = corners[corner] - centroid;' \
+        'const Vector3 outward = centroid - corners[corner];'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2

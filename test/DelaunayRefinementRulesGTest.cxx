@@ -20,18 +20,24 @@
 // hand: four points whose circumsphere is known, inside a box far larger than it (so that the four make a cell of the
 // Delaunay triangulation), near the top of a ball of radius 100 (the surface z = 0 there, to 1e-2 over the
 // tetrahedron). The whole refinement would hide which rule fired: a rule that splits too early or too late changes
-// the mesh, not a guarantee the meshes are checked for.
+// the mesh, not a guarantee the meshes are checked for. R4′'s move of a corner of a tetrahedron flat to rounding
+// (src/DelaunayRefinementSliverPerturbation.h) is asked of one made by hand on the same surface, for the same reason.
 
 #include "DelaunayRefinementAnalyticOracles.h"
+#include "DelaunayRefinementBoxProtection.h"
 #include "DelaunayRefinementMeshState.h"
 #include "DelaunayRefinementRules.h"
 #include "DelaunayRefinementSizing.h"
+#include "DelaunayRefinementSliverPerturbation.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace dr = delaunay_refinement;
@@ -178,4 +184,205 @@ TEST(RefinementRules, R1CountsAFeatureVertexDeltaAwayAsWithinDelta)
   ASSERT_TRUE(action.has_value());
   EXPECT_EQ(action->rule, Rule::R1);
   EXPECT_NEAR(dr::Norm(action->point), 0.0, 1e-12) << "the surface point closest to the circumcentre";
+}
+
+namespace
+{
+
+using dr::detail::SliverPerturbation;
+
+/** An outcome's name, for readable failures. */
+const char *
+NameOf(SliverPerturbation::Outcome outcome)
+{
+  switch (outcome)
+  {
+    case SliverPerturbation::Outcome::Moved:
+      return "Moved";
+    case SliverPerturbation::Outcome::Undone:
+      return "Undone";
+    case SliverPerturbation::Outcome::NotTried:
+      return "NotTried";
+  }
+  return "?";
+}
+
+/** Four feature vertices on the top of the ball of radius 100 centred at (0, 0, -100), at (±1, 0) and (0, ±1) on one
+ * horizontal circle of the sphere, the last raised by 1e-7: a tetrahedron of volume 3e-8 against its shortest edge
+ * √2 cubed, flat to rounding (FlatVolumeFraction 1e-5), with its circumcentre 1e-7 / 2 above the circle's centre,
+ * inside the ball (label 1). The unit ball around it holds no other vertex (the box's corners are 25 away), so the
+ * four make a cell. The cells the box's corners make with them are large and cross the surface far from the four,
+ * where no feature vertex is within δ: R1 applies to them (to every cell of this triangulation), and to the cells a
+ * move of a corner creates, so the full acceptance test refuses every move. */
+class HandMadeFlatTetrahedron
+{
+public:
+  static constexpr double Delta = 0.5;
+
+  HandMadeFlatTetrahedron()
+    : m_Oracle(dr::Vector3{ { 0.0, 0.0, -100.0 } }, 100.0)
+    , m_Parameters(Parameters())
+    , m_State(m_Oracle, m_Parameters)
+    , m_Sizing(Delta)
+    , m_Box(m_State, Delta, m_Statistics)
+  {
+    m_State.SetNewCellsHook([](const std::vector<CellHandle> &) {});
+    dr::AxisAlignedBox bounds;
+    bounds.lower = { { -10.0, -10.0, -10.0 } };
+    bounds.upper = { { 10.0, 10.0, 10.0 } };
+    m_Box.CreateBox(bounds);
+    for (const dr::Vector3 & corner : Corners())
+    {
+      const std::optional<dr::detail::VertexHandle> vertex =
+        m_State.InsertVertex(corner, dr::VertexKind::Feature, CellHandle());
+      EXPECT_TRUE(vertex.has_value());
+    }
+    m_Rules.emplace(m_Oracle, m_Parameters, m_State, m_Sizing, m_Box.Box());
+    m_Perturbation.emplace(m_Oracle, m_Parameters, m_State, *m_Rules, m_Sizing, m_Box);
+  }
+
+  static std::array<dr::Vector3, 4>
+  Corners()
+  {
+    // The sphere's height at distance 1 from the axis.
+    const double z = std::sqrt(100.0 * 100.0 - 1.0) - 100.0;
+    return { { { { 1.0, 0.0, z } }, { { 0.0, 1.0, z } }, { { -1.0, 0.0, z } }, { { 0.0, -1.0, z + 1e-7 } } } };
+  }
+
+  /** The cell whose corners are Corners(), if it is still there. */
+  CellHandle
+  FlatCell() const
+  {
+    const std::array<dr::Vector3, 4> corners = Corners();
+    for (auto cell = m_State.GetTriangulation().finite_cells_begin();
+         cell != m_State.GetTriangulation().finite_cells_end();
+         ++cell)
+    {
+      const std::array<dr::Vector3, 4> own = m_State.CornersOf(cell);
+      if (std::all_of(corners.begin(), corners.end(), [&own](const dr::Vector3 & corner) {
+            return std::find(own.begin(), own.end(), corner) != own.end();
+          }))
+      {
+        return cell;
+      }
+    }
+    return CellHandle();
+  }
+
+  /** The feature vertices that are not at one of Corners(): the moved one, after a move. */
+  std::vector<dr::detail::VertexHandle>
+  MovedFeatureVertices() const
+  {
+    const std::array<dr::Vector3, 4>      corners = Corners();
+    std::vector<dr::detail::VertexHandle> moved;
+    for (auto vertex = m_State.GetTriangulation().finite_vertices_begin();
+         vertex != m_State.GetTriangulation().finite_vertices_end();
+         ++vertex)
+    {
+      if (vertex->info().kind == dr::VertexKind::Feature &&
+          std::find(corners.begin(), corners.end(), m_State.PointOf(vertex)) == corners.end())
+      {
+        moved.push_back(vertex);
+      }
+    }
+    return moved;
+  }
+
+  /** The largest cosine of a smallest dihedral angle among the tissue (label 1) cells at `vertex`. */
+  double
+  LargestCosineAround(dr::detail::VertexHandle vertex) const
+  {
+    std::vector<CellHandle> star;
+    m_State.GetTriangulation().incident_cells(vertex, std::back_inserter(star));
+    double largest = -1.0;
+    for (const CellHandle cell : star)
+    {
+      if (!m_State.GetTriangulation().is_infinite(cell) && cell->cache.label != dr::BackgroundLabel)
+      {
+        largest = std::max(largest, dr::CosineOfSmallestDihedralAngle(m_State.CornersOf(cell)));
+      }
+    }
+    return largest;
+  }
+
+  /** The name of what R4′'s moves did to the flat tetrahedron, allowed acceptance levels up to `lastResort`. */
+  std::string
+  Perturb(SliverPerturbation::Acceptance lastResort)
+  {
+    return NameOf(m_Perturbation->Perturb(FlatCell(), lastResort));
+  }
+
+  const dr::SphereOracle &
+  Oracle() const
+  {
+    return m_Oracle;
+  }
+
+private:
+  static dr::RefinementParameters
+  Parameters()
+  {
+    dr::RefinementParameters parameters;
+    parameters.surfaceSamplingDistance = Delta;
+    parameters.radiusEdgeBound = 2.0;
+    parameters.minimumDihedralAngle = 0.0;
+    return parameters;
+  }
+
+  dr::SphereOracle                           m_Oracle;
+  dr::RefinementParameters                   m_Parameters;
+  dr::detail::MeshState                      m_State;
+  dr::detail::LocalSampling                  m_Sizing;
+  dr::RefinementStatistics                   m_Statistics;
+  dr::detail::BoxProtection                  m_Box;
+  std::optional<dr::detail::RefinementRules> m_Rules;
+  std::optional<SliverPerturbation>          m_Perturbation;
+};
+
+} // namespace
+
+/** A tetrahedron flat to rounding left after the refinement gets its moves under an acceptance that relaxes in levels,
+ * up to the level the caller allows, each tried with every candidate before the next (docs/algorithm.md, "R4′ picks
+ * its point": first the full test, then one where R1-R4 may apply to the new tetrahedra). Here the full test refuses
+ * every move (see HandMadeFlatTetrahedron), so allowed the full test only, the tetrahedron stays, the moves undone;
+ * allowed the next level too, a surface corner moves along the surface, away from the others' centre by a small step
+ * (at most FlatStepFractions' last, 1e-2 of the shortest edge), the flat tetrahedron is gone, and the tissue tetrahedra
+ * at the moved corner are all better shaped than it was. */
+TEST(SliverPerturbation, AFlatTetrahedronMovesAtTheLevelItIsAllowedOnly)
+{
+  const double shortestEdge = std::sqrt(2.0);
+  {
+    HandMadeFlatTetrahedron flat;
+    ASSERT_NE(flat.FlatCell(), CellHandle()) << "the four points make no cell";
+    ASSERT_EQ(flat.FlatCell()->cache.label, 1) << "the flat tetrahedron is not in the ball";
+    ASSERT_TRUE(dr::IsFlatToRounding(HandMadeFlatTetrahedron::Corners()));
+    EXPECT_EQ(flat.Perturb(SliverPerturbation::Acceptance::EveryRule), "Undone");
+    EXPECT_NE(flat.FlatCell(), CellHandle()) << "a move the full test refuses was kept";
+    EXPECT_TRUE(flat.MovedFeatureVertices().empty());
+  }
+  HandMadeFlatTetrahedron flat;
+  const double            cosineBefore = dr::CosineOfSmallestDihedralAngle(HandMadeFlatTetrahedron::Corners());
+  EXPECT_EQ(flat.Perturb(SliverPerturbation::Acceptance::RefinementMayFollow), "Moved");
+  EXPECT_EQ(flat.FlatCell(), CellHandle()) << "the flat tetrahedron is still there";
+  const std::vector<dr::detail::VertexHandle> moved = flat.MovedFeatureVertices();
+  ASSERT_EQ(moved.size(), 1u);
+  const dr::Vector3 point = dr::detail::ToVector(moved.front()->point());
+  // On the surface, to the oracle's bisection tolerance.
+  EXPECT_NEAR(dr::Distance(point, dr::Vector3{ { 0.0, 0.0, -100.0 } }), 100.0, flat.Oracle().SurfaceTolerance());
+  // The corner it came from: the nearest one.
+  const std::array<dr::Vector3, 4> corners = HandMadeFlatTetrahedron::Corners();
+  const dr::Vector3                from =
+    *std::min_element(corners.begin(), corners.end(), [&point](const dr::Vector3 & a, const dr::Vector3 & b) {
+      return dr::Distance(point, a) < dr::Distance(point, b);
+    });
+  EXPECT_GT(dr::Distance(point, from), 0.0);
+  EXPECT_LE(dr::Distance(point, from), 0.02 * shortestEdge) << "the corner moved more than a small step";
+  // A flat tetrahedron's corner moves in its plane away from the others' centre (docs/algorithm.md, "R4′ picks its
+  // point": that breaks the co-circularity), here along the sphere: off the circle, outwards.
+  const double centroidX = 0.25 * (corners[0][0] + corners[1][0] + corners[2][0] + corners[3][0]);
+  const double centroidY = 0.25 * (corners[0][1] + corners[1][1] + corners[2][1] + corners[3][1]);
+  EXPECT_GT(std::hypot(point[0] - centroidX, point[1] - centroidY),
+            std::hypot(from[0] - centroidX, from[1] - centroidY))
+    << "the corner moved towards the others' centre";
+  EXPECT_LT(flat.LargestCosineAround(moved.front()), cosineBefore) << "the move made a tissue cell no better";
 }
