@@ -200,8 +200,8 @@
 #   face-tie-to-larger-offset     of equally near interface faces, the closest surface point is one of the voxel with
 #                                 the larger buffer offset, not the smaller; now caught by
 #                                 OracleDistance.EquallyNearFacesGoToTheVoxelWithTheSmallerOffset
-#   Bugs in R4′'s moves of a corner (added 2026-12-03), a file few deliberate bugs had reached; run by hand on the
-#   GoogleTest executables (the fingerprints left aside, which see every one of them):
+#   Bugs in R4′'s moves of a corner and in the oracle's bisection (added 2026-12-03), files few deliberate bugs had
+#   reached; run by hand on the GoogleTest executables (the fingerprints left aside, which see every one of them):
 #   moves-stop-a-level-short      R4′'s moves stop one acceptance level short of the one allowed (acceptance < the last
 #                                 level, not <=): a sliver gets no move at all, a flat tetrahedron never its last level;
 #                                 the meshes kept every guarantee, and only the fingerprints and the case check of
@@ -216,6 +216,12 @@
 #                                 from it (the move still breaks the co-circularity, so every mesh kept its guarantees:
 #                                 only the brain-mask and k-means fingerprints failed); now caught by
 #                                 SliverPerturbation.AFlatTetrahedronMovesAtTheLevelItIsAllowedOnly
+#   bisection-returns-an-end      the bisection returns the end of its last bracket on a's side, not the bracket's
+#                                 midpoint (within the tolerance still, so every feature vertex stays on the surface);
+#                                 before the new test only RandomizedStability.FirstMeshesOfEveryFamilyChangeByAFewPer-
+#                                 CentAtMost (SaltAndPepper 2000025 changed by 8.9 %, its bound 8 %) and the fingerprints
+#                                 failed; now caught by AnalyticOracles.BisectionReturnsTheMidpointOfTheLastBracket-
+#                                 WithinTheTolerance
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -429,7 +435,7 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   ball-half-goes-to-other ball-tie-to-larger-label face-tie-to-larger-offset shortest-edge-skips-fourth-corner
   triangle-shortest-two-edges radius-edge-margin-outward planar-margin-below-30 dihedral-bound-on-at-zero
   sheared-direction-accepted negative-spacing-accepted moves-stop-a-level-short move-keeps-a-worse-angle
-  flat-corner-moves-inwards)
+  flat-corner-moves-inwards bisection-returns-an-end)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -1037,6 +1043,11 @@ apply_mutation() {
     flat-corner-moves-inwards)
       mutate "$tree/src/DelaunayRefinementSliverPerturbation.h" 'const Vector3 outward = corners[corner] - centroid;' \
         'const Vector3 outward = centroid - corners[corner];'
+      ;;
+    bisection-returns-an-end)
+      mutate "$tree/src/DelaunayRefinementOracle.cxx" '  return 0.5 * (a + b);
+}' '  return a;
+}'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2

@@ -791,6 +791,29 @@ TEST(AnalyticOracles, MinimumLocalFeatureSizeIsTheDistanceToTheMedialAxis)
   EXPECT_DOUBLE_EQ(NestedSpheresOracle(origin, 2.0, 10.0).MinimumLocalFeatureSize(), 2.0);
 }
 
+/** R3's surface-ball centres and R4′'s moved surface corners come from BisectLabelChange (the default
+ * SurfaceCrossing): it halves the bracket until it is no longer than the tolerance and returns the midpoint of the
+ * last bracket, so the point is within half the tolerance of the crossing. On the ball of radius 0.7 from its centre
+ * to (2, 0, 0), tolerance 0.1, by hand: [0, 2] -> 1 is outside -> [0, 1] -> [0.5, 1] -> [0.5, 0.75] -> [0.625, 0.75]
+ * (0.125 long, still above 0.1) -> [0.6875, 0.75] (0.0625): its midpoint 0.71875, 0.01875 from the sphere. Every
+ * number is a binary fraction, so the answer is exact; from the outside in, the brackets are the same. */
+TEST(AnalyticOracles, BisectionReturnsTheMidpointOfTheLastBracketWithinTheTolerance)
+{
+  const SphereOracle ball({ { 0.0, 0.0, 0.0 } }, 0.7);
+  const Vector3      centre{ { 0.0, 0.0, 0.0 } };
+  const Vector3      outside{ { 2.0, 0.0, 0.0 } };
+  const Vector3      expected{ { 0.71875, 0.0, 0.0 } };
+  EXPECT_EQ(BisectLabelChange(ball, centre, outside, 0.1), expected);
+  EXPECT_EQ(BisectLabelChange(ball, outside, centre, 0.1), expected);
+  // The tolerance is a length: a bracket of 0.25 (the one a test of the squared length against the tolerance itself
+  // stops at, 0.0625 < 0.1) is more than twice it.
+  EXPECT_LE(std::abs(BisectLabelChange(ball, centre, outside, 0.1)[0] - 0.7), 0.05);
+  // Tolerance 0 still ends (the steps are bounded), at the sphere to rounding.
+  EXPECT_NEAR(BisectLabelChange(ball, centre, outside, 0.0)[0], 0.7, 1e-15);
+  // The oracle's own surface crossing is the same bisection down to its SurfaceTolerance().
+  EXPECT_LE(std::abs(ball.SurfaceCrossing(centre, outside)[0] - 0.7), 0.5 * ball.SurfaceTolerance());
+}
+
 /** The message of the VertexLimitExceeded that refining the sphere with ρ and σ under a cap of 20 vertices throws;
  * empty when it throws nothing or something else. */
 std::string
