@@ -345,9 +345,10 @@ private:
  * up to the level the caller allows, each tried with every candidate before the next (docs/algorithm.md, "R4′ picks
  * its point": first the full test, then one where R1-R4 may apply to the new tetrahedra). Here the full test refuses
  * every move (see HandMadeFlatTetrahedron), so allowed the full test only, the tetrahedron stays, the moves undone;
- * allowed the next level too, a surface corner moves along the surface, away from the others' centre by a small step
- * (at most FlatStepFractions' last, 1e-2 of the shortest edge), the flat tetrahedron is gone, and the tissue tetrahedra
- * at the moved corner are all better shaped than it was. */
+ * allowed the next level too (where a move may still make no vertex non-manifold, and may leave one as it was), a
+ * surface corner moves along the surface, away from the others' centre by a small step (at most FlatStepFractions'
+ * last, 1e-2 of the shortest edge), the flat tetrahedron is gone, and the tissue tetrahedra at the moved corner are all
+ * better shaped than it was. */
 TEST(SliverPerturbation, AFlatTetrahedronMovesAtTheLevelItIsAllowedOnly)
 {
   const double shortestEdge = std::sqrt(2.0);
