@@ -49,6 +49,17 @@ namespace
 
 constexpr double Delta = 1.0;
 
+/** δ, ρ = 2 and σ = 0: the paper's method, whose rules the tests work out by hand. */
+dr::RefinementParameters
+PaperParameters(double delta)
+{
+  dr::RefinementParameters parameters;
+  parameters.surfaceSamplingDistance = delta;
+  parameters.radiusEdgeBound = 2.0;
+  parameters.minimumDihedralAngle = 0.0;
+  return parameters;
+}
+
 /** A tetrahedron with circumcentre (0, 0, `height`) and circumradius `radius`: its lowest corner (0, 0, height -
  * radius), a feature vertex, and an equilateral triangle of free vertices on the horizontal great circle. The surface
  * is the top of a ball of radius 100 centred at (0, 0, -100): the closest surface point to the circumcentre is the
@@ -58,7 +69,7 @@ class HandMadeTetrahedron
 public:
   HandMadeTetrahedron(double height, double radius)
     : m_Oracle(dr::Vector3{ { 0.0, 0.0, -100.0 } }, 100.0)
-    , m_Parameters(Parameters())
+    , m_Parameters(PaperParameters(Delta))
     , m_State(m_Oracle, m_Parameters)
     , m_Sizing(Delta)
   {
@@ -117,16 +128,6 @@ public:
 
 private:
   static constexpr double BoxHalfSide = 50.0;
-
-  static dr::RefinementParameters
-  Parameters()
-  {
-    dr::RefinementParameters parameters;
-    parameters.surfaceSamplingDistance = Delta;
-    parameters.radiusEdgeBound = 2.0;
-    parameters.minimumDihedralAngle = 0.0;
-    return parameters;
-  }
 
   dr::SphereOracle          m_Oracle;
   dr::RefinementParameters  m_Parameters;
@@ -221,7 +222,7 @@ public:
 
   HandMadeFlatTetrahedron()
     : m_Oracle(dr::Vector3{ { 0.0, 0.0, -100.0 } }, 100.0)
-    , m_Parameters(Parameters())
+    , m_Parameters(PaperParameters(Delta))
     , m_State(m_Oracle, m_Parameters)
     , m_Sizing(Delta)
     , m_Box(m_State, Delta, m_Statistics)
@@ -319,16 +320,6 @@ public:
   }
 
 private:
-  static dr::RefinementParameters
-  Parameters()
-  {
-    dr::RefinementParameters parameters;
-    parameters.surfaceSamplingDistance = Delta;
-    parameters.radiusEdgeBound = 2.0;
-    parameters.minimumDihedralAngle = 0.0;
-    return parameters;
-  }
-
   dr::SphereOracle                           m_Oracle;
   dr::RefinementParameters                   m_Parameters;
   dr::detail::MeshState                      m_State;
