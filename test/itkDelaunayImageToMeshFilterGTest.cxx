@@ -1861,8 +1861,8 @@ TEST(BadInput, SpacingThatIsNotPositive)
 
 /** Distances are measured along the voxel axes, so a direction that is not a rotation or a reflection is refused,
  * naming the direction: a shear (a CT gantry tilt), a column that is not a unit vector (ITK itself aborts on a NaN
- * there, in SetDirection()). A rotation written to
- * six decimals, as DICOM files often have it, is accepted and meshes with the guarantees. */
+ * there, in SetDirection()). A rotation written to six decimals, as DICOM files often have it, is accepted and
+ * meshes with the guarantees. */
 TEST(BadInput, DirectionThatIsNotOrthonormal)
 {
   const auto withDirection = [](const LabelImageType::DirectionType & direction) {
