@@ -518,6 +518,8 @@ DescribeRun(const TFilter & filter, const Options & options,
   else
   {
     run.selectedLabels.assign(filter.GetLabels().begin(), filter.GetLabels().end());
+    run.selectedLabelsNotInImage.assign(filter.GetSelectedLabelsNotInImage().begin(),
+                                        filter.GetSelectedLabelsNotInImage().end());
     run.mergeLabels = filter.GetMergeLabels();
   }
   run.maximumNumberOfVertices = filter.GetMaximumNumberOfVertices();

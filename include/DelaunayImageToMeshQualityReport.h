@@ -83,6 +83,10 @@ struct MeshingRun
   std::vector<Label>    selectedLabels;
   bool                  mergeLabels{ false };
   std::optional<double> isoValue;
+  /** The selected labels that no voxel of the image carries (itk::DelaunayImageToMeshFilter::
+   * GetSelectedLabelsNotInImage()): none of them is in the mesh, and the report says so as it does for a lost
+   * tissue, which a label absent from the segmentation cannot be. */
+  std::vector<Label> selectedLabelsNotInImage;
   /** The cap on the triangulation's vertices. */
   std::size_t maximumNumberOfVertices{ 0 };
   TopologyRun topology;

@@ -242,13 +242,23 @@ public:
   itkGetConstMacro(UseIsoValue, bool);
   itkBooleanMacro(UseIsoValue);
 
-  /** The labels to mesh, each as a tissue. Empty (the default) = every non-zero label. */
+  /** The labels to mesh, each as a tissue. Empty (the default) = every non-zero label. Each must be a label: a
+   * non-zero integer in [-2147483647, 2147483647] (0 is the background); the update refuses any other. */
   void
   SetLabels(const LabelListType & labels);
   const LabelListType &
   GetLabels() const
   {
     return m_Labels;
+  }
+  /** After an update: the labels of GetLabels() that no voxel of the input carries, in increasing order (empty
+   * without a selection, and with an iso-value). Nothing of them is in the mesh, and the selection is how a user
+   * said what must be: the report lists them, as it lists a tissue the mesh lost. Where no selected label is in the
+   * image, the update fails instead, naming them. */
+  const LabelListType &
+  GetSelectedLabelsNotInImage() const
+  {
+    return m_SelectedLabelsNotInImage;
   }
   /** Mesh every selected label as one object, labelled 1: for masks whose values encode something other than
    * tissues. Default off (each selected label is a tissue). */
@@ -420,6 +430,7 @@ private:
   double              m_IsoValue{ 0.0 };
   bool                m_UseIsoValue{ false };
   LabelListType       m_Labels;
+  LabelListType       m_SelectedLabelsNotInImage;
   LabelPairListType   m_InterfaceLabels;
   // Private members and the .hxx are parsed by CastXML too: only the public accessors above are hidden from
   // the wrapping, because SWIG cannot wrap their std::array and core types.

@@ -302,9 +302,14 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::RefineWithVoxelLabels(
   }
   if (oracle.GetNumberOfObjectVoxels() == 0)
   {
+    std::ostringstream notInImage;
+    for (const LabelType label : m_SelectedLabelsNotInImage)
+    {
+      notInImage << (notInImage.tellp() == 0 ? "; the selected labels not in the image: " : ", ") << label;
+    }
     itkExceptionMacro(<< "No voxel of the input is part of the object ("
                       << (m_UseIsoValue ? "no value >= the iso-value" : "no voxel carries a selected label")
-                      << "): there is nothing to mesh.");
+                      << notInImage.str() << "): there is nothing to mesh.");
   }
   this->UpdateProgress(SetUpProgressShare);
   const delaunay_refinement::ProgressObserver observer =
@@ -382,6 +387,7 @@ void
 DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
 {
   const InputImageType * image = this->GetInput();
+  m_SelectedLabelsNotInImage.clear();
   ValidateInput(image);
   m_EffectiveSurfaceSamplingDistance = ResolveSurfaceSamplingDistance(image);
 
@@ -414,6 +420,22 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
                       << ": the valid range is [0, 0.5] (a fraction of delta; 0 = no regularisation)");
   }
 
+  if (!m_UseIsoValue)
+  {
+    for (const LabelType label : m_Labels)
+    {
+      // The voxels' values round to labels of this range (ImageLabelSelection::RoundsToALabel()), and 0 is the
+      // background: any other selected label could never be meshed.
+      if (label == delaunay_refinement::BackgroundLabel ||
+          !ImageLabelSelection::RoundsToALabel(static_cast<double>(label)))
+      {
+        itkExceptionMacro(<< "Invalid label " << label << " in Labels: the valid labels are the non-zero integers in ["
+                          << -std::numeric_limits<LabelType>::max() << ", " << std::numeric_limits<LabelType>::max()
+                          << "] (0 is the background, meshed where no selected label is).");
+      }
+    }
+  }
+
   this->UpdateProgress(0.0f);
   const InterpolatorPointer interpolator = MakeInterpolator(image);
   const ImageLabelMapping   mapping{ m_Labels,
@@ -431,6 +453,7 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
   // The label image is the refinement's largest buffer with the nearest-interface map: in one byte a voxel where
   // every selected label fits, it takes a quarter of the memory it took in four (bench/README.md, "The label image
   // in one byte a voxel").
+  m_SelectedLabelsNotInImage = ImageLabelSelection(mapping).SelectedLabelsNotIn(*image);
   SizeValueType numberOfObjectVoxels = 0;
   m_BytesPerVoxelLabel = ImageLabelSelection(mapping).BytesPerVoxelLabel(*image);
   switch (m_BytesPerVoxelLabel)
@@ -544,6 +567,12 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf(std::ostream & os
     os << ' ' << label;
   }
   os << (m_Labels.empty() ? " (all non-zero)" : "") << std::endl;
+  os << indent << "SelectedLabelsNotInImage:";
+  for (const LabelType label : m_SelectedLabelsNotInImage)
+  {
+    os << ' ' << label;
+  }
+  os << std::endl;
   os << indent << "InterfaceLabels: " << m_InterfaceLabels.size() << " pairs" << std::endl;
   os << indent << "RefinedMesh: " << m_RefinedMesh.points.size() << " points, " << m_RefinedMesh.tetrahedra.size()
      << " tetrahedra, " << m_RefinedMesh.boundaryTriangles.size() << " boundary triangles" << std::endl;

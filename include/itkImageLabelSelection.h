@@ -88,6 +88,7 @@ public:
     , m_IsoValue(mapping.isoValue)
   {
     std::sort(m_SelectedLabels.begin(), m_SelectedLabels.end());
+    m_SelectedLabels.erase(std::unique(m_SelectedLabels.begin(), m_SelectedLabels.end()), m_SelectedLabels.end());
   }
 
   /** The largest label; the labels are the integers of magnitude up to it (the output's cell data holds them). */
@@ -98,6 +99,13 @@ public:
   RoundsToALabel(double value)
   {
     return (value < 0.0 ? -value : value) < LargestLabel + 0.5;
+  }
+
+  /** The label nearest to a value that RoundsToALabel(). */
+  static LabelType
+  NearestLabel(double value)
+  {
+    return static_cast<LabelType>(std::lround(value));
   }
 
   /** The label a voxel value maps to. */
@@ -118,7 +126,7 @@ public:
       // merged without a selection, every non-zero value is the object.
       return m_MergeLabels && m_SelectedLabels.empty() ? 1 : delaunay_refinement::BackgroundLabel;
     }
-    const auto label = static_cast<LabelType>(std::lround(value));
+    const LabelType label = NearestLabel(value);
     if (label == delaunay_refinement::BackgroundLabel ||
         !(m_SelectedLabels.empty() || std::binary_search(m_SelectedLabels.begin(), m_SelectedLabels.end(), label)))
     {
@@ -242,6 +250,59 @@ public:
       return 1;
     }
     return lowest >= 0 && highest <= std::numeric_limits<uint16_t>::max() ? 2 : 4;
+  }
+
+  /** The selected labels that no voxel of `image`'s buffered region rounds to, in increasing order: nothing of them
+   * can be in the mesh, and a selection is how a user says what must be (a label mistyped, or a tissue another
+   * segmentation of the series lacks). Empty without a selection and with an iso-value, which selects no label. One
+   * pass over the raw rows that looks a value up only where it changes (label images are runs of equal values), and
+   * stops once every selected label is found. */
+  template <typename TInputImage>
+  std::vector<LabelType>
+  SelectedLabelsNotIn(const TInputImage & image) const
+  {
+    using PixelType = typename TInputImage::PixelType;
+    if (m_UseIsoValue || m_SelectedLabels.empty())
+    {
+      return {};
+    }
+    std::vector<bool> found(m_SelectedLabels.size(), false);
+    std::size_t       missing = m_SelectedLabels.size();
+    bool              valid = false;
+    PixelType         last{};
+    ForEachRow(image, image.GetBufferedRegion(), [&](const PixelType * row, const Index<3> &, SizeValueType length) {
+      for (SizeValueType i = 0; i < length && missing > 0; ++i)
+      {
+        // NaN never equals the last value, and rounds to no label.
+        if (valid && row[i] == last)
+        {
+          continue;
+        }
+        valid = true;
+        last = row[i];
+        const double value = static_cast<double>(row[i]);
+        if (!RoundsToALabel(value))
+        {
+          continue;
+        }
+        const LabelType label = NearestLabel(value);
+        const auto      at = std::lower_bound(m_SelectedLabels.begin(), m_SelectedLabels.end(), label);
+        if (at != m_SelectedLabels.end() && *at == label && !found[at - m_SelectedLabels.begin()])
+        {
+          found[at - m_SelectedLabels.begin()] = true;
+          --missing;
+        }
+      }
+    });
+    std::vector<LabelType> notFound;
+    for (std::size_t i = 0; i < m_SelectedLabels.size(); ++i)
+    {
+      if (!found[i])
+      {
+        notFound.push_back(m_SelectedLabels[i]);
+      }
+    }
+    return notFound;
   }
 
   /** A new image over `region`, in the geometry of `image`: each voxel the label of the voxel of `image` there,

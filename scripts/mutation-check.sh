@@ -229,6 +229,16 @@
 #                                 CentAtMost (SaltAndPepper 2000025 changed by 8.9 %, its bound 8 %) and the fingerprints
 #                                 failed; now caught by AnalyticOracles.BisectionReturnsTheMidpointOfTheLastBracket-
 #                                 WithinTheTolerance
+#   absent-labels-unreported      the filter never looks for the selected labels the image lacks (a selection of 1 and
+#                                 99 meshed label 1 and said nothing of 99); caught by LabelSelection.SelectedLabels-
+#                                 NotInTheImageAreReported and the CLI's LostTissue test
+#   selected-background-accepted  a selected 0 (the background) is accepted and silently never meshed; caught by
+#                                 BadInput.SelectedLabelThatIsNoLabel
+#   not-in-image-row-inverted     the summary names the labels not in the image only when there are none; caught by
+#                                 QualityReport.SelectedLabelsNotInTheImageAreListed and the LostTissue test
+#   selection-repeats-kept        a label selected twice is kept twice, and the second copy, never marked found, is
+#                                 reported as not in the image; caught by ImageLabelSelection.SelectedLabelsNotInThe-
+#                                 ImageAreThoseNoVoxelRoundsTo and the filter's test
 #
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
@@ -442,7 +452,8 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   ball-half-goes-to-other ball-tie-to-larger-label face-tie-to-larger-offset shortest-edge-skips-fourth-corner
   triangle-shortest-two-edges radius-edge-margin-outward planar-margin-below-30 dihedral-bound-on-at-zero
   sheared-direction-accepted negative-spacing-accepted moves-stop-a-level-short move-keeps-a-worse-angle
-  flat-corner-moves-inwards bisection-returns-an-end move-refuses-places-kept)
+  flat-corner-moves-inwards bisection-returns-an-end move-refuses-places-kept absent-labels-unreported
+  selected-background-accepted not-in-image-row-inverted selection-repeats-kept)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -1050,6 +1061,24 @@ apply_mutation() {
     flat-corner-moves-inwards)
       mutate "$tree/src/DelaunayRefinementSliverPerturbation.h" 'const Vector3 outward = corners[corner] - centroid;' \
         'const Vector3 outward = centroid - corners[corner];'
+      ;;
+    absent-labels-unreported)
+      mutate "$tree/include/itkDelaunayImageToMeshFilter.hxx" \
+        '  m_SelectedLabelsNotInImage = ImageLabelSelection(mapping).SelectedLabelsNotIn(*image);
+' ''
+      ;;
+    selected-background-accepted)
+      mutate "$tree/include/itkDelaunayImageToMeshFilter.hxx" '      if (label == delaunay_refinement::BackgroundLabel ||
+          !ImageLabelSelection' '      if (!ImageLabelSelection'
+      ;;
+    not-in-image-row-inverted)
+      mutate "$tree/src/DelaunayImageToMeshQualityReport.cxx" '  if (!run.selectedLabelsNotInImage.empty())' \
+        '  if (run.selectedLabelsNotInImage.empty())'
+      ;;
+    selection-repeats-kept)
+      mutate "$tree/include/itkImageLabelSelection.h" \
+        '    m_SelectedLabels.erase(std::unique(m_SelectedLabels.begin(), m_SelectedLabels.end()), m_SelectedLabels.end());
+' ''
       ;;
     move-refuses-places-kept)
       mutate "$tree/src/DelaunayRefinementSliverPerturbation.h" '        return after > nonManifoldBefore;' \

@@ -371,6 +371,7 @@ ReportJson(const QualityReport & report)
            { "segmented_volume_mm3", report.segmentedVolume },
            { "distance_to_marching_cubes", DistanceJson(report) },
            { "labels", labels },
+           { "selected_labels_not_in_image", run.selectedLabelsNotInImage },
            { "min_dihedral_angle_histogram",
              { { "bin_width_deg", histogram.binWidth }, { "counts", histogram.counts } } },
            { "time_seconds", phaseSeconds },
@@ -473,6 +474,18 @@ PrintSummary(const QualityReport & report, std::ostream & out)
   if (!lostLabels.empty())
   {
     PrintRow(out, "LOST tissues", lostLabels);
+  }
+  if (!run.selectedLabelsNotInImage.empty())
+  {
+    std::string notInImage;
+    for (const Label label : run.selectedLabelsNotInImage)
+    {
+      notInImage += (notInImage.empty() ? "label " : ", label ") + std::to_string(label);
+    }
+    PrintRow(out,
+             "selected, NOT in image",
+             notInImage +
+               (run.selectedLabelsNotInImage.size() == 1 ? " (no voxel carries it)" : " (no voxel carries them)"));
   }
   std::size_t regularizedAway = 0;
   double      volumeRemoved = 0.0;

@@ -18,7 +18,7 @@
 """A tissue the mesh loses reads as lost, in the table and in the JSON report: speck.nii.gz holds two balls and
 label 3, two face-adjacent voxels of 1 x 1.25 x 1.5 mm, far thinner than the default delta (6 mm). Its row must
 say "lost: 1 component, 3.8 mm^3", and its JSON entry "lost": true with the component and the volume, never the
-angle or the genus of its empty boundary.
+angle or the genus of its empty boundary. A selected label that no voxel carries is named as such.
 
 Usage: DelaunayImageToMeshCommandLineLostTissue.py PROGRAM IMAGE_DIRECTORY OUTPUT_DIRECTORY"""
 
@@ -37,13 +37,15 @@ def main(program, images, output):
     os.makedirs(output, exist_ok=True)
     report_path = os.path.join(output, "speck.json")
     unregularized_path = os.path.join(output, "speck-unregularized.json")
+    selected_path = os.path.join(output, "speck-selected.json")
     # A run in a build tree that already holds an earlier run's reports must write them again to pass.
-    remove_if_present(report_path, unregularized_path)
+    remove_if_present(report_path, unregularized_path, selected_path, os.path.join(output, "speck-absent.vtu"))
     result = run(program, [os.path.join(images, "speck.nii.gz"), os.path.join(output, "speck.vtu"), "--report",
                            report_path])
     check(result.returncode == 0, describe(result))
     with open(report_path, encoding="utf-8") as file:
-        labels = {entry["label"]: entry for entry in json.load(file)["labels"]}
+        report_of_all_labels = json.load(file)
+    labels = {entry["label"]: entry for entry in report_of_all_labels["labels"]}
 
     check(sorted(labels) == [1, 2, SPECK_LABEL], f"labels in the report: {sorted(labels)}")
     speck = labels[SPECK_LABEL]
@@ -90,8 +92,30 @@ def main(program, images, output):
           f"the summary does not list the lost tissue: {describe(result)}")
     check("regularised at delta        1 component removed;" in result.stdout,
           f"the summary does not say what the regularisation removed: {describe(result)}")
+
+    # A selected label that no voxel carries (label 9: mistyped, say) is not in the segmentation, so it cannot read
+    # as lost; the summary and the JSON name it instead. Where none of the selected labels is there, the run fails
+    # naming them, before any mesh file is written.
+    selected = run(program, [os.path.join(images, "speck.nii.gz"), os.path.join(output, "speck-selected.vtu"),
+                             "--labels", "2,9,1", "--report", selected_path])
+    check(selected.returncode == 0, describe(selected))
+    with open(selected_path, encoding="utf-8") as file:
+        selected_report = json.load(file)
+    check(selected_report["selected_labels_not_in_image"] == [9],
+          f"label 9 not reported as not in the image: {selected_report['selected_labels_not_in_image']}")
+    check(sorted(entry["label"] for entry in selected_report["labels"]) == [1, 2],
+          f"labels in the report with --labels 2,9,1: {selected_report['labels']}")
+    check("selected, NOT in image      label 9 (no voxel carries it)" in selected.stdout,
+          f"the summary does not name label 9: {describe(selected)}")
+    check(report_of_all_labels["selected_labels_not_in_image"] == [],
+          f"labels not in the image reported without a selection: {report_of_all_labels}")
+    absent_mesh = os.path.join(output, "speck-absent.vtu")
+    absent = run(program, [os.path.join(images, "speck.nii.gz"), absent_mesh, "--labels", "11,9"])
+    check(absent.returncode != 0 and "the selected labels not in the image: 9, 11" in absent.stderr,
+          f"meshing only absent labels should fail naming them: {describe(absent)}")
+    check(not os.path.exists(absent_mesh), "a mesh file was written for labels not in the image")
     print("label 3 (2 voxels) lost at the default delta: 'lost: 1 component, 3.8 mm^3' in the table and JSON, "
-          "regularised away")
+          "regularised away; selected label 9, not in the image, named in the summary and the JSON")
 
 
 if __name__ == "__main__":

@@ -412,6 +412,33 @@ TEST(QualityReport, NothingLostNoLostRow)
   EXPECT_EQ(table.str().find("LOST"), std::string::npos) << table.str();
 }
 
+// A selected label no voxel carries is not in the segmentation, so it cannot read as lost: the run says it, in the
+// summary and the JSON, which has the key (empty) on every report so that a script need not test for it.
+TEST(QualityReport, SelectedLabelsNotInTheImageAreListed)
+{
+  QualityReport report = CubeReport(2);
+  report.run.selectedLabels = { 2, 7, -40 };
+  EXPECT_EQ(JsonOf(report)["selected_labels_not_in_image"], std::vector<int>{});
+  std::ostringstream allThere;
+  PrintQualityReport(report, allThere);
+  EXPECT_EQ(allThere.str().find("NOT in image"), std::string::npos) << allThere.str();
+
+  report.run.selectedLabelsNotInImage = { 7 };
+  EXPECT_EQ(JsonOf(report)["selected_labels_not_in_image"], std::vector<int>{ 7 });
+  std::ostringstream one;
+  PrintQualityReport(report, one);
+  EXPECT_NE(one.str().find("\n  selected, NOT in image      label 7 (no voxel carries it)\n"), std::string::npos)
+    << one.str();
+
+  report.run.selectedLabelsNotInImage = { -40, 7 };
+  EXPECT_EQ(JsonOf(report)["selected_labels_not_in_image"], std::vector<int>({ -40, 7 }));
+  std::ostringstream two;
+  PrintQualityReport(report, two);
+  EXPECT_NE(two.str().find("\n  selected, NOT in image      label -40, label 7 (no voxel carries them)\n"),
+            std::string::npos)
+    << two.str();
+}
+
 TEST(QualityReport, InconsistentMeshIsRejected)
 {
   TetrahedralMesh mesh = KuhnCube(1);

@@ -1738,6 +1738,54 @@ TEST(LabelSelection, ValueBeyondTheLabelsIsObjectWhenMergedAndNeverSelected)
   ExpectExceptionNaming(*largest, "no voxel carries a selected label");
 }
 
+// A selected label that no voxel carries cannot be meshed, and a selection is how the user said what must be (a
+// label mistyped, or a tissue one scan of a series lacks): it is reported, never left out in silence, the same with
+// the labels merged. Where no selected label is in the image, the update fails naming them. Each update reads the
+// image again: a later selection that is all there reports none.
+TEST(LabelSelection, SelectedLabelsNotInTheImageAreReported)
+{
+  using ImageType = itk::Image<uint16_t, 3>;
+  using Filter = itk::DelaunayImageToMeshFilter<ImageType, MeshType>;
+  const auto [image, centers] = TwoBallsOf<uint16_t>(3, 7);
+  auto filter = FilterFor(image.GetPointer(), 2.0);
+  filter->SetLabels({ 7, 99, 3, -4, 99 });
+  const auto meshed = RunFilter<Filter>(filter);
+  ExpectGuarantees(*meshed);
+  EXPECT_TRUE(ATetrahedronOfTheLabelContains(meshed->mesh, 3, centers[0]));
+  EXPECT_TRUE(ATetrahedronOfTheLabelContains(meshed->mesh, 7, centers[1]));
+  EXPECT_EQ(filter->GetSelectedLabelsNotInImage(), (Filter::LabelListType{ -4, 99 }));
+
+  filter->SetLabels({ 3 });
+  filter->Update();
+  EXPECT_TRUE(filter->GetSelectedLabelsNotInImage().empty());
+
+  filter->SetLabels({ 12, 7, 3 });
+  filter->MergeLabelsOn();
+  filter->Update();
+  EXPECT_EQ(filter->GetSelectedLabelsNotInImage(), (Filter::LabelListType{ 12 }));
+
+  filter->SetLabels({ 40, 12 });
+  ExpectExceptionNaming(*filter, "the selected labels not in the image: 12, 40");
+  EXPECT_EQ(filter->GetSelectedLabelsNotInImage(), (Filter::LabelListType{ 12, 40 }));
+  // An update refused before it reads the image says nothing of it, not what the last one found.
+  filter->SetLabels({ 0 });
+  ExpectExceptionNaming(*filter, "Invalid label 0 in Labels");
+  EXPECT_TRUE(filter->GetSelectedLabelsNotInImage().empty());
+}
+
+// The background (0) and the one 32-bit integer that is no label (a value rounding to it is refused) can never be
+// meshed as a tissue: selecting them is refused, naming the label and the valid range, not ignored.
+TEST(BadInput, SelectedLabelThatIsNoLabel)
+{
+  for (const dr::Label label : { dr::Label{ 0 }, std::numeric_limits<dr::Label>::min() })
+  {
+    auto filter = FilterFor(SmallBall().GetPointer(), 2.0);
+    filter->SetLabels({ 1, label });
+    ExpectExceptionNaming(*filter, "Invalid label " + std::to_string(label) + " in Labels");
+    ExpectExceptionNaming(*filter, "the non-zero integers in [-2147483647, 2147483647]");
+  }
+}
+
 TEST(BadInput, EmptyBufferedRegion)
 {
   auto                       image = LabelImageType::New();

@@ -28,9 +28,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <set>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -283,4 +285,76 @@ TEST(ImageLabelSelection, BytesPerVoxelLabelIsTheFewestThatHoldEveryLabel)
   EXPECT_EQ(
     BytesPerVoxelLabelThatHoldsEveryLabel<double>(ImageWithOneVoxelOf<double>(300.2), someLabels, "double, selected"),
     1u);
+}
+
+namespace
+{
+
+/** The selected labels of `mapping` that no voxel of `image` rounds to, by brute force over every voxel: each
+ * selected label is looked for with its own test of the voxel's value (finite, and within half of the label). */
+template <typename TImage>
+std::vector<delaunay_refinement::Label>
+SelectedLabelsAbsentByBruteForce(const TImage & image, const itk::ImageLabelMapping & mapping)
+{
+  std::vector<delaunay_refinement::Label> selected = mapping.selectedLabels;
+  std::sort(selected.begin(), selected.end());
+  selected.erase(std::unique(selected.begin(), selected.end()), selected.end());
+  std::vector<delaunay_refinement::Label> absent;
+  for (const delaunay_refinement::Label label : selected)
+  {
+    bool present = false;
+    for (itk::ImageRegionConstIterator<TImage> it(&image, image.GetBufferedRegion()); !it.IsAtEnd() && !present; ++it)
+    {
+      const double value = static_cast<double>(it.Get());
+      present = std::isfinite(value) && std::abs(value - static_cast<double>(label)) < 0.5;
+    }
+    if (!present)
+    {
+      absent.push_back(label);
+    }
+  }
+  return absent;
+}
+
+template <typename TPixel>
+void
+ExpectTheSelectedLabelsNotInTheImage(const std::vector<delaunay_refinement::Label> & selection,
+                                     const std::string &                             type)
+{
+  const auto             image = ImageOfManyValues<TPixel>();
+  itk::ImageLabelMapping mapping;
+  mapping.selectedLabels = selection;
+  const auto expected = SelectedLabelsAbsentByBruteForce(*image, mapping);
+  // The case must hold labels found and labels not, or it tells nothing.
+  ASSERT_FALSE(expected.empty()) << type;
+  ASSERT_LT(expected.size(), std::set<delaunay_refinement::Label>(selection.begin(), selection.end()).size()) << type;
+  EXPECT_EQ(itk::ImageLabelSelection(mapping).SelectedLabelsNotIn(*image), expected) << type;
+  mapping.mergeLabels = true;
+  EXPECT_EQ(itk::ImageLabelSelection(mapping).SelectedLabelsNotIn(*image), expected) << type << ", merged";
+  // An iso-value selects no label, and no selection is every label there is.
+  mapping.useIsoValue = true;
+  EXPECT_TRUE(itk::ImageLabelSelection(mapping).SelectedLabelsNotIn(*image).empty()) << type << ", iso-value";
+  EXPECT_TRUE(itk::ImageLabelSelection(itk::ImageLabelMapping{}).SelectedLabelsNotIn(*image).empty()) << type;
+}
+
+} // namespace
+
+// The labels found are those some voxel rounds to, wherever it is in the image (the last voxel, a run that starts a
+// row), repeats in the selection counted once; the labels not found come back in increasing order.
+TEST(ImageLabelSelection, SelectedLabelsNotInTheImageAreThoseNoVoxelRoundsTo)
+{
+  // The integer images hold every fourth run 0 and the others spread over (step * 37) % 256 (minus 128 if signed).
+  const auto lastValue = [](auto image) {
+    const auto & region = image->GetBufferedRegion();
+    return static_cast<delaunay_refinement::Label>(
+      std::lround(static_cast<double>(image->GetPixel(region.GetUpperIndex()))));
+  };
+  const delaunay_refinement::Label lastUnsigned = lastValue(ImageOfManyValues<uint8_t>());
+  const delaunay_refinement::Label lastSigned = lastValue(ImageOfManyValues<int16_t>());
+  ExpectTheSelectedLabelsNotInTheImage<uint8_t>({ 255, 37, lastUnsigned, 5, 37, 1000, -3, 74 }, "uint8_t");
+  ExpectTheSelectedLabelsNotInTheImage<uint16_t>({ 255, 37, lastUnsigned, 5, 37, 1000, -3, 74 }, "uint16_t");
+  ExpectTheSelectedLabelsNotInTheImage<int16_t>({ -91, lastSigned, -54, 2, 3, 127, 1000 }, "int16_t");
+  // Floats hold 0.75 * (step % 9) - 2, and a NaN: -2, -1.25 (-1), -0.5 (0 or -1: exactly half), 1, 1.75 (2) ...
+  ExpectTheSelectedLabelsNotInTheImage<float>({ -2, -1, 1, 2, 3, 4, 5, 7 }, "float");
+  ExpectTheSelectedLabelsNotInTheImage<double>({ -2, -1, 1, 2, 3, 4, 5, 7 }, "double");
 }
