@@ -223,6 +223,13 @@
 #                                 fingerprints and the case check of RandomizedRegression.BoundaryWithinTheSurfaceBalls-
 #                                 TieMargin failed; now caught by SliverPerturbation.AFlatTetrahedronMovesAtTheLevel-
 #                                 ItIsAllowedOnly
+#   normal-sums-unoriented        the surface normal at a surface corner sums the outward normals of the boundary facets
+#                                 around it without turning them from the smaller label towards the larger: each facet,
+#                                 seen from both of its cells, cancels, and the normal is zero (no surface corner of a
+#                                 sliver moves) or a rounding residue pointing anywhere; known to fail the fingerprints
+#                                 and, by the residues at its corners, the flat tetrahedron's test; now caught by
+#                                 SliverPerturbation.ASliverOfSurfaceVerticesLosesACornerMovedAlongTheSurface, whose
+#                                 integer coordinates make the sum exactly zero (run by hand on 2026-12-03)
 #   bisection-returns-an-end      the bisection returns the end of its last bracket on a's side, not the bracket's
 #                                 midpoint (within the tolerance still, so every feature vertex stays on the surface);
 #                                 before the new test only RandomizedStability.FirstMeshesOfEveryFamilyChangeByAFewPer-
@@ -453,7 +460,8 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   triangle-shortest-two-edges radius-edge-margin-outward planar-margin-below-30 dihedral-bound-on-at-zero
   sheared-direction-accepted negative-spacing-accepted moves-stop-a-level-short move-keeps-a-worse-angle
   flat-corner-moves-inwards bisection-returns-an-end move-refuses-places-kept absent-labels-unreported
-  selected-background-accepted not-in-image-row-inverted selection-repeats-kept)
+  selected-background-accepted not-in-image-row-inverted selection-repeats-kept
+  normal-sums-unoriented)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -1083,6 +1091,10 @@ apply_mutation() {
     move-refuses-places-kept)
       mutate "$tree/src/DelaunayRefinementSliverPerturbation.h" '        return after > nonManifoldBefore;' \
         '        return after >= nonManifoldBefore;'
+      ;;
+    normal-sums-unoriented)
+      mutate "$tree/src/DelaunayRefinementSliverPerturbation.h" \
+        'sum = cell->cache.label < beyond ? sum + outward : sum - outward;' 'sum = sum + outward;'
       ;;
     bisection-returns-an-end)
       mutate "$tree/src/DelaunayRefinementOracle.cxx" '  return 0.5 * (a + b);

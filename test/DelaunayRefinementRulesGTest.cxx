@@ -21,7 +21,8 @@
 // Delaunay triangulation), near the top of a ball of radius 100 (the surface z = 0 there, to 1e-2 over the
 // tetrahedron). The whole refinement would hide which rule fired: a rule that splits too early or too late changes
 // the mesh, not a guarantee the meshes are checked for. R4′'s move of a corner of a tetrahedron flat to rounding
-// (src/DelaunayRefinementSliverPerturbation.h) is asked of one made by hand on the same surface, for the same reason.
+// (src/DelaunayRefinementSliverPerturbation.h) is asked of one made by hand on the same surface, for the same reason,
+// and its move of a sliver's corner along the surface of one made by hand on the rim of the genus-2 plate.
 
 #include "DelaunayRefinementAnalyticOracles.h"
 #include "DelaunayRefinementBoxProtection.h"
@@ -35,6 +36,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <optional>
 #include <string>
@@ -208,6 +210,59 @@ NameOf(SliverPerturbation::Outcome outcome)
   return "?";
 }
 
+/** The cell whose corners are `corners`, if there is one. */
+CellHandle
+CellWithCorners(const dr::detail::MeshState & state, const std::array<dr::Vector3, 4> & corners)
+{
+  for (auto cell = state.GetTriangulation().finite_cells_begin(); cell != state.GetTriangulation().finite_cells_end();
+       ++cell)
+  {
+    const std::array<dr::Vector3, 4> own = state.CornersOf(cell);
+    if (std::all_of(corners.begin(), corners.end(), [&own](const dr::Vector3 & corner) {
+          return std::find(own.begin(), own.end(), corner) != own.end();
+        }))
+    {
+      return cell;
+    }
+  }
+  return CellHandle();
+}
+
+/** The feature vertices at none of `places`: the moved one, after a move. */
+std::vector<dr::detail::VertexHandle>
+FeatureVerticesAwayFrom(const dr::detail::MeshState & state, const std::vector<dr::Vector3> & places)
+{
+  std::vector<dr::detail::VertexHandle> away;
+  for (auto vertex = state.GetTriangulation().finite_vertices_begin();
+       vertex != state.GetTriangulation().finite_vertices_end();
+       ++vertex)
+  {
+    if (vertex->info().kind == dr::VertexKind::Feature &&
+        std::find(places.begin(), places.end(), state.PointOf(vertex)) == places.end())
+    {
+      away.push_back(vertex);
+    }
+  }
+  return away;
+}
+
+/** The largest cosine of a smallest dihedral angle among the tissue (label 1) cells at `vertex`. */
+double
+LargestTissueCosineAround(const dr::detail::MeshState & state, dr::detail::VertexHandle vertex)
+{
+  std::vector<CellHandle> star;
+  state.GetTriangulation().incident_cells(vertex, std::back_inserter(star));
+  double largest = -1.0;
+  for (const CellHandle cell : star)
+  {
+    if (!state.GetTriangulation().is_infinite(cell) && cell->cache.label != dr::BackgroundLabel)
+    {
+      largest = std::max(largest, dr::CosineOfSmallestDihedralAngle(state.CornersOf(cell)));
+    }
+  }
+  return largest;
+}
+
 /** Four feature vertices on the top of the ball of radius 100 centred at (0, 0, -100), at (±1, 0) and (0, ±1) on one
  * horizontal circle of the sphere, the last raised by 1e-7: a tetrahedron of volume 3e-8 against its shortest edge
  * √2 cubed, flat to rounding (FlatVolumeFraction 1e-5), with its circumcentre 1e-7 / 2 above the circle's centre,
@@ -254,56 +309,22 @@ public:
   CellHandle
   FlatCell() const
   {
-    const std::array<dr::Vector3, 4> corners = Corners();
-    for (auto cell = m_State.GetTriangulation().finite_cells_begin();
-         cell != m_State.GetTriangulation().finite_cells_end();
-         ++cell)
-    {
-      const std::array<dr::Vector3, 4> own = m_State.CornersOf(cell);
-      if (std::all_of(corners.begin(), corners.end(), [&own](const dr::Vector3 & corner) {
-            return std::find(own.begin(), own.end(), corner) != own.end();
-          }))
-      {
-        return cell;
-      }
-    }
-    return CellHandle();
+    return CellWithCorners(m_State, Corners());
   }
 
   /** The feature vertices that are not at one of Corners(): the moved one, after a move. */
   std::vector<dr::detail::VertexHandle>
   MovedFeatureVertices() const
   {
-    const std::array<dr::Vector3, 4>      corners = Corners();
-    std::vector<dr::detail::VertexHandle> moved;
-    for (auto vertex = m_State.GetTriangulation().finite_vertices_begin();
-         vertex != m_State.GetTriangulation().finite_vertices_end();
-         ++vertex)
-    {
-      if (vertex->info().kind == dr::VertexKind::Feature &&
-          std::find(corners.begin(), corners.end(), m_State.PointOf(vertex)) == corners.end())
-      {
-        moved.push_back(vertex);
-      }
-    }
-    return moved;
+    const std::array<dr::Vector3, 4> corners = Corners();
+    return FeatureVerticesAwayFrom(m_State, { corners.begin(), corners.end() });
   }
 
   /** The largest cosine of a smallest dihedral angle among the tissue (label 1) cells at `vertex`. */
   double
   LargestCosineAround(dr::detail::VertexHandle vertex) const
   {
-    std::vector<CellHandle> star;
-    m_State.GetTriangulation().incident_cells(vertex, std::back_inserter(star));
-    double largest = -1.0;
-    for (const CellHandle cell : star)
-    {
-      if (!m_State.GetTriangulation().is_infinite(cell) && cell->cache.label != dr::BackgroundLabel)
-      {
-        largest = std::max(largest, dr::CosineOfSmallestDihedralAngle(m_State.CornersOf(cell)));
-      }
-    }
-    return largest;
+    return LargestTissueCosineAround(m_State, vertex);
   }
 
   /** The name of what R4′'s moves did to the flat tetrahedron, allowed acceptance levels up to `lastResort`. */
@@ -377,4 +398,187 @@ TEST(SliverPerturbation, AFlatTetrahedronMovesAtTheLevelItIsAllowedOnly)
             std::hypot(from[0] - centroidX, from[1] - centroidY))
     << "the corner moved towards the others' centre";
   EXPECT_LT(flat.LargestCosineAround(moved.front()), cosineBefore) << "the move made a tissue cell no better";
+}
+
+namespace
+{
+
+/** A sliver of four surface vertices, which no move but one along the surface can remove, on the rim of the genus-2
+ * plate (plate radius 200, thickness 25; its holes, at x = ±200, are far away): along the plate's straight side the
+ * rim is the cylinder of radius 25 about the line y = 200, z = 0, whose points (x, 200 + u, z) with u² + z² = 25² are
+ * integer for integer x. Surface vertices sit in rows along x at (u, z) = (25, 0), (24, ±7), (20, ±15) and (15, ±20),
+ * the rows at x = 0, ±10, ±20 and at x = ±5, ±15 in turn; the top row's two at ±5 are pulled out to ±7, so that they
+ * and the two at x = 0 of the rows (24, ±7) make a square, 1 deep across the surface: a sliver (smallest dihedral
+ * angle 11.5°, below σ = 15°) whose circumsphere, of radius 7, holds no other vertex. Free vertices in the rows'
+ * directions at radii 16 (inside the rim: tissue) and 34 (outside: background), rounded to integers, in the other
+ * rows' places along x, close the stars of the sliver's corners with tetrahedra to which no rule but R4′ applies (δ =
+ * 10, the rows' spacing; with σ > 0 a move need not keep Lemma 2's spacing). Every coordinate is an integer, so that
+ * every face normal is exact: a surface normal that summed the boundary facets around a corner without turning them
+ * from the smaller label towards the larger (each is seen from both of its cells) would be exactly zero, not a
+ * rounding residue that may point anywhere. */
+class HandMadeRimSliver
+{
+public:
+  HandMadeRimSliver()
+    : m_Oracle(dr::Vector3{ { 0.0, 0.0, 0.0 } }, 200.0, PlateRadius, 50.0, RimRadius)
+    , m_Parameters(Parameters())
+    , m_State(m_Oracle, m_Parameters)
+    , m_Sizing(m_Parameters.surfaceSamplingDistance)
+    , m_Box(m_State, m_Parameters.surfaceSamplingDistance, m_Statistics)
+  {
+    m_State.SetNewCellsHook([](const std::vector<CellHandle> &) {});
+    m_Box.CreateBox(m_Oracle.ObjectBounds());
+    struct Row
+    {
+      double u;
+      double z;
+      bool   atTens;
+    };
+    const std::array<Row, 7>  rows{ { { 25.0, 0.0, false },
+                                      { 24.0, 7.0, true },
+                                      { 24.0, -7.0, true },
+                                      { 20.0, 15.0, false },
+                                      { 20.0, -15.0, false },
+                                      { 15.0, 20.0, true },
+                                      { 15.0, -20.0, true } } };
+    const std::vector<double> tens{ -20.0, -10.0, 0.0, 10.0, 20.0 };
+    const std::vector<double> fives{ -15.0, -5.0, 5.0, 15.0 };
+    std::vector<dr::Vector3>  freePoints;
+    for (const Row & row : rows)
+    {
+      for (const double x : row.atTens ? tens : fives)
+      {
+        const double pulled = row.u == RimRadius && std::abs(x) == 5.0 ? std::copysign(7.0, x) : x;
+        m_SurfacePoints.push_back({ { pulled, PlateRadius + row.u, row.z } });
+      }
+      for (const double radius : { 16.0, 34.0 })
+      {
+        for (const double x : row.atTens ? fives : tens)
+        {
+          freePoints.push_back(
+            { { x, PlateRadius + std::round(row.u * radius / RimRadius), std::round(row.z * radius / RimRadius) } });
+        }
+      }
+    }
+    for (const dr::Vector3 & point : m_SurfacePoints)
+    {
+      EXPECT_TRUE(m_State.InsertVertex(point, dr::VertexKind::Feature, CellHandle()).has_value());
+    }
+    for (const dr::Vector3 & point : freePoints)
+    {
+      EXPECT_TRUE(m_State.InsertVertex(point, dr::VertexKind::Free, CellHandle()).has_value());
+    }
+    m_Rules.emplace(m_Oracle, m_Parameters, m_State, m_Sizing, m_Box.Box());
+    m_Perturbation.emplace(m_Oracle, m_Parameters, m_State, *m_Rules, m_Sizing, m_Box);
+  }
+
+  static std::array<dr::Vector3, 4>
+  SliverCorners()
+  {
+    return { { { { -7.0, PlateRadius + 25.0, 0.0 } },
+               { { 7.0, PlateRadius + 25.0, 0.0 } },
+               { { 0.0, PlateRadius + 24.0, 7.0 } },
+               { { 0.0, PlateRadius + 24.0, -7.0 } } } };
+  }
+
+  /** The distance from `point` to the rim's axis. */
+  static double
+  DistanceToTheAxis(const dr::Vector3 & point)
+  {
+    return std::hypot(point[1] - PlateRadius, point[2]);
+  }
+
+  CellHandle
+  SliverCell() const
+  {
+    return CellWithCorners(m_State, SliverCorners());
+  }
+
+  std::optional<dr::detail::Action>
+  ApplicableRule(CellHandle cell) const
+  {
+    return m_Rules->FindApplicableRule(cell);
+  }
+
+  std::string
+  Perturb()
+  {
+    return NameOf(m_Perturbation->Perturb(SliverCell()));
+  }
+
+  std::vector<dr::detail::VertexHandle>
+  MovedSurfaceVertices() const
+  {
+    return FeatureVerticesAwayFrom(m_State, m_SurfacePoints);
+  }
+
+  double
+  LargestCosineAround(dr::detail::VertexHandle vertex) const
+  {
+    return LargestTissueCosineAround(m_State, vertex);
+  }
+
+  const dr::Genus2Oracle &
+  Oracle() const
+  {
+    return m_Oracle;
+  }
+
+  static constexpr double PlateRadius = 200.0;
+  static constexpr double RimRadius = 25.0;
+
+private:
+  static dr::RefinementParameters
+  Parameters()
+  {
+    dr::RefinementParameters parameters;
+    parameters.surfaceSamplingDistance = 10.0;
+    parameters.radiusEdgeBound = 2.0;
+    parameters.minimumDihedralAngle = 15.0;
+    return parameters;
+  }
+
+  dr::Genus2Oracle                           m_Oracle;
+  dr::RefinementParameters                   m_Parameters;
+  dr::detail::MeshState                      m_State;
+  dr::detail::LocalSampling                  m_Sizing;
+  dr::RefinementStatistics                   m_Statistics;
+  dr::detail::BoxProtection                  m_Box;
+  std::optional<dr::detail::RefinementRules> m_Rules;
+  std::optional<SliverPerturbation>          m_Perturbation;
+  std::vector<dr::Vector3>                   m_SurfacePoints;
+};
+
+} // namespace
+
+/** R4′ removes a sliver of surface vertices by moving one of its corners along the surface (docs/algorithm.md, "R4′
+ * moves a vertex"): along the part of the sliver's height at that corner tangent to the surface, whose normal there
+ * is estimated from the boundary facets around the corner, then back onto the surface along that normal. Here the
+ * sliver's corners are all on the rim (see HandMadeRimSliver), so every move is one along it: the sliver is gone, one
+ * corner moved by less than half the sliver's shortest edge (the steps are 0.2 and 0.4 of it) and lies on the rim
+ * to the oracle's bisection tolerance, and the tissue tetrahedra at it are all better shaped than the sliver was. */
+TEST(SliverPerturbation, ASliverOfSurfaceVerticesLosesACornerMovedAlongTheSurface)
+{
+  HandMadeRimSliver rim;
+  ASSERT_NE(rim.SliverCell(), CellHandle()) << "the four points make no cell";
+  ASSERT_EQ(rim.SliverCell()->cache.label, 1) << "the sliver is not in the rim";
+  const std::optional<dr::detail::Action> action = rim.ApplicableRule(rim.SliverCell());
+  ASSERT_TRUE(action.has_value());
+  ASSERT_EQ(action->rule, Rule::R4Dihedral) << "the sliver is not R4′'s";
+  const std::array<dr::Vector3, 4> corners = HandMadeRimSliver::SliverCorners();
+  const double                     cosineBefore = dr::CosineOfSmallestDihedralAngle(corners);
+  EXPECT_EQ(rim.Perturb(), "Moved");
+  EXPECT_EQ(rim.SliverCell(), CellHandle()) << "the sliver is still there";
+  const std::vector<dr::detail::VertexHandle> moved = rim.MovedSurfaceVertices();
+  ASSERT_EQ(moved.size(), 1u);
+  const dr::Vector3 point = dr::detail::ToVector(moved.front()->point());
+  EXPECT_NEAR(
+    HandMadeRimSliver::DistanceToTheAxis(point), HandMadeRimSliver::RimRadius, rim.Oracle().SurfaceTolerance());
+  const double nearestCorner = dr::Distance(
+    point, *std::min_element(corners.begin(), corners.end(), [&point](const dr::Vector3 & a, const dr::Vector3 & b) {
+      return dr::Distance(point, a) < dr::Distance(point, b);
+    }));
+  EXPECT_GT(nearestCorner, 0.0);
+  EXPECT_LT(nearestCorner, 0.5 * dr::ShortestEdgeLength(corners)) << "no corner of the sliver moved";
+  EXPECT_LT(rim.LargestCosineAround(moved.front()), cosineBefore) << "the move made a tissue cell no better";
 }
