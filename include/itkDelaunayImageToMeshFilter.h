@@ -242,8 +242,8 @@ public:
   itkGetConstMacro(UseIsoValue, bool);
   itkBooleanMacro(UseIsoValue);
 
-  /** The labels to mesh, each as a tissue. Empty (the default) = every non-zero label. Each must be a label: a
-   * non-zero integer in [-2147483647, 2147483647] (0 is the background); the update refuses any other. */
+  /** The labels to mesh, each as a tissue. Empty (the default) = every non-zero label. Each must be a label, an
+   * integer in [-2147483647, 2147483647]: the update refuses -2147483648. A selected 0 is the background. */
   void
   SetLabels(const LabelListType & labels);
   const LabelListType &

@@ -424,14 +424,13 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
   {
     for (const LabelType label : m_Labels)
     {
-      // The voxels' values round to labels of this range (ImageLabelSelection::RoundsToALabel()), and 0 is the
-      // background: any other selected label could never be meshed.
-      if (label == delaunay_refinement::BackgroundLabel ||
-          !ImageLabelSelection::RoundsToALabel(static_cast<double>(label)))
+      // The voxels' values round to labels of this range (ImageLabelSelection::RoundsToALabel()): a selected label
+      // beyond it could never be meshed. A selected 0 is the background, as it always is.
+      if (!ImageLabelSelection::RoundsToALabel(static_cast<double>(label)))
       {
-        itkExceptionMacro(<< "Invalid label " << label << " in Labels: the valid labels are the non-zero integers in ["
+        itkExceptionMacro(<< "Invalid label " << label << " in Labels: the valid labels are the integers in ["
                           << -std::numeric_limits<LabelType>::max() << ", " << std::numeric_limits<LabelType>::max()
-                          << "] (0 is the background, meshed where no selected label is).");
+                          << "].");
       }
     }
   }

@@ -239,8 +239,8 @@
 #   absent-labels-unreported      the filter never looks for the selected labels the image lacks (a selection of 1 and
 #                                 99 meshed label 1 and said nothing of 99); caught by LabelSelection.SelectedLabels-
 #                                 NotInTheImageAreReported and the CLI's LostTissue test
-#   selected-background-accepted  a selected 0 (the background) is accepted and silently never meshed; caught by
-#                                 BadInput.SelectedLabelThatIsNoLabel
+#   selected-no-label-accepted    a selected -2147483648, which no value rounds to, is accepted and silently never
+#                                 meshed; caught by BadInput.SelectedLabelThatIsNoLabel
 #   not-in-image-row-inverted     the summary names the labels not in the image only when there are none; caught by
 #                                 QualityReport.SelectedLabelsNotInTheImageAreListed and the LostTissue test
 #   selection-repeats-kept        a label selected twice is kept twice, and the second copy, never marked found, is
@@ -460,7 +460,7 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   triangle-shortest-two-edges radius-edge-margin-outward planar-margin-below-30 dihedral-bound-on-at-zero
   sheared-direction-accepted negative-spacing-accepted moves-stop-a-level-short move-keeps-a-worse-angle
   flat-corner-moves-inwards bisection-returns-an-end move-refuses-places-kept absent-labels-unreported
-  selected-background-accepted not-in-image-row-inverted selection-repeats-kept
+  selected-no-label-accepted not-in-image-row-inverted selection-repeats-kept
   normal-sums-unoriented)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
@@ -1075,9 +1075,9 @@ apply_mutation() {
         '  m_SelectedLabelsNotInImage = ImageLabelSelection(mapping).SelectedLabelsNotIn(*image);
 ' ''
       ;;
-    selected-background-accepted)
-      mutate "$tree/include/itkDelaunayImageToMeshFilter.hxx" '      if (label == delaunay_refinement::BackgroundLabel ||
-          !ImageLabelSelection' '      if (!ImageLabelSelection'
+    selected-no-label-accepted)
+      mutate "$tree/include/itkDelaunayImageToMeshFilter.hxx" \
+        '      if (!ImageLabelSelection::RoundsToALabel(static_cast<double>(label)))' '      if (false)'
       ;;
     not-in-image-row-inverted)
       mutate "$tree/src/DelaunayImageToMeshQualityReport.cxx" '  if (!run.selectedLabelsNotInImage.empty())' \

@@ -1768,21 +1768,21 @@ TEST(LabelSelection, SelectedLabelsNotInTheImageAreReported)
   ExpectExceptionNaming(*filter, "the selected labels not in the image: 12, 40");
   EXPECT_EQ(filter->GetSelectedLabelsNotInImage(), (Filter::LabelListType{ 12, 40 }));
   // An update refused before it reads the image says nothing of it, not what the last one found.
-  filter->SetLabels({ 0 });
-  ExpectExceptionNaming(*filter, "Invalid label 0 in Labels");
+  filter->SetLabels({ std::numeric_limits<dr::Label>::min() });
+  ExpectExceptionNaming(*filter, "Invalid label -2147483648 in Labels");
   EXPECT_TRUE(filter->GetSelectedLabelsNotInImage().empty());
 }
 
-// The background (0) and the one 32-bit integer that is no label (a value rounding to it is refused) can never be
-// meshed as a tissue: selecting them is refused, naming the label and the valid range, not ignored.
+// The one 32-bit integer that is no label (a value rounding to it is refused) can never be meshed as a tissue:
+// selecting it is refused, naming the label and the valid range, not ignored.
 TEST(BadInput, SelectedLabelThatIsNoLabel)
 {
-  for (const dr::Label label : { dr::Label{ 0 }, std::numeric_limits<dr::Label>::min() })
+  for (const dr::Label label : { std::numeric_limits<dr::Label>::min() })
   {
     auto filter = FilterFor(SmallBall().GetPointer(), 2.0);
     filter->SetLabels({ 1, label });
     ExpectExceptionNaming(*filter, "Invalid label " + std::to_string(label) + " in Labels");
-    ExpectExceptionNaming(*filter, "the non-zero integers in [-2147483647, 2147483647]");
+    ExpectExceptionNaming(*filter, "the integers in [-2147483647, 2147483647]");
   }
 }
 
