@@ -270,32 +270,82 @@ LargestTissueCosineAround(const dr::detail::MeshState & state, dr::detail::Verte
  * four make a cell. The cells the box's corners make with them are large and cross the surface far from the four,
  * where no feature vertex is within δ: R1 applies to them (to every cell of this triangulation), and to the cells a
  * move of a corner creates, so the full acceptance test refuses every move. */
+/** The refinement's state, rules and R4′ moves over a Delaunay triangulation of hand-placed vertices in a box
+ * around `bounds`, on `TOracle`'s surface: what each hand-made fixture below builds around its own points. */
+template <typename TOracle>
+class HandMadeTriangulation
+{
+public:
+  HandMadeTriangulation(const TOracle & oracle, const dr::RefinementParameters & parameters,
+                        const dr::AxisAlignedBox & bounds, const std::vector<dr::Vector3> & featurePoints,
+                        const std::vector<dr::Vector3> & freePoints)
+    : m_Oracle(oracle)
+    , m_Parameters(parameters)
+    , m_State(m_Oracle, m_Parameters)
+    , m_Sizing(parameters.surfaceSamplingDistance)
+    , m_Box(m_State, parameters.surfaceSamplingDistance, m_Statistics)
+  {
+    m_State.SetNewCellsHook([](const std::vector<CellHandle> &) {});
+    m_Box.CreateBox(bounds);
+    for (const dr::Vector3 & point : featurePoints)
+    {
+      EXPECT_TRUE(m_State.InsertVertex(point, dr::VertexKind::Feature, CellHandle()).has_value());
+    }
+    for (const dr::Vector3 & point : freePoints)
+    {
+      EXPECT_TRUE(m_State.InsertVertex(point, dr::VertexKind::Free, CellHandle()).has_value());
+    }
+    m_Rules.emplace(m_Oracle, m_Parameters, m_State, m_Sizing, m_Box.Box());
+    m_Perturbation.emplace(m_Oracle, m_Parameters, m_State, *m_Rules, m_Sizing, m_Box);
+  }
+  HandMadeTriangulation(const HandMadeTriangulation &) = delete;
+  HandMadeTriangulation &
+  operator=(const HandMadeTriangulation &) = delete;
+
+  const TOracle &
+  Oracle() const
+  {
+    return m_Oracle;
+  }
+
+  const dr::detail::MeshState &
+  State() const
+  {
+    return m_State;
+  }
+
+  const dr::detail::RefinementRules &
+  Rules() const
+  {
+    return *m_Rules;
+  }
+
+  SliverPerturbation &
+  Perturbation()
+  {
+    return *m_Perturbation;
+  }
+
+private:
+  TOracle                                    m_Oracle;
+  dr::RefinementParameters                   m_Parameters;
+  dr::detail::MeshState                      m_State;
+  dr::detail::LocalSampling                  m_Sizing;
+  dr::RefinementStatistics                   m_Statistics;
+  dr::detail::BoxProtection                  m_Box;
+  std::optional<dr::detail::RefinementRules> m_Rules;
+  std::optional<SliverPerturbation>          m_Perturbation;
+};
+
 class HandMadeFlatTetrahedron
 {
 public:
   static constexpr double Delta = 0.5;
 
   HandMadeFlatTetrahedron()
-    : m_Oracle(dr::Vector3{ { 0.0, 0.0, -100.0 } }, 100.0)
-    , m_Parameters(PaperParameters(Delta))
-    , m_State(m_Oracle, m_Parameters)
-    , m_Sizing(Delta)
-    , m_Box(m_State, Delta, m_Statistics)
-  {
-    m_State.SetNewCellsHook([](const std::vector<CellHandle> &) {});
-    dr::AxisAlignedBox bounds;
-    bounds.lower = { { -10.0, -10.0, -10.0 } };
-    bounds.upper = { { 10.0, 10.0, 10.0 } };
-    m_Box.CreateBox(bounds);
-    for (const dr::Vector3 & corner : Corners())
-    {
-      const std::optional<dr::detail::VertexHandle> vertex =
-        m_State.InsertVertex(corner, dr::VertexKind::Feature, CellHandle());
-      EXPECT_TRUE(vertex.has_value());
-    }
-    m_Rules.emplace(m_Oracle, m_Parameters, m_State, m_Sizing, m_Box.Box());
-    m_Perturbation.emplace(m_Oracle, m_Parameters, m_State, *m_Rules, m_Sizing, m_Box);
-  }
+    : m_Made(dr::SphereOracle(dr::Vector3{ { 0.0, 0.0, -100.0 } }, 100.0), PaperParameters(Delta), Bounds(),
+             CornerPoints(), {})
+  {}
 
   static std::array<dr::Vector3, 4>
   Corners()
@@ -309,7 +359,7 @@ public:
   CellHandle
   FlatCell() const
   {
-    return CellWithCorners(m_State, Corners());
+    return CellWithCorners(m_Made.State(), Corners());
   }
 
   /** The feature vertices that are not at one of Corners(): the moved one, after a move. */
@@ -317,38 +367,47 @@ public:
   MovedFeatureVertices() const
   {
     const std::array<dr::Vector3, 4> corners = Corners();
-    return FeatureVerticesAwayFrom(m_State, { corners.begin(), corners.end() });
+    return FeatureVerticesAwayFrom(m_Made.State(), { corners.begin(), corners.end() });
   }
 
   /** The largest cosine of a smallest dihedral angle among the tissue (label 1) cells at `vertex`. */
   double
   LargestCosineAround(dr::detail::VertexHandle vertex) const
   {
-    return LargestTissueCosineAround(m_State, vertex);
+    return LargestTissueCosineAround(m_Made.State(), vertex);
   }
 
   /** The name of what R4′'s moves did to the flat tetrahedron, allowed acceptance levels up to `lastResort`. */
   std::string
   Perturb(SliverPerturbation::Acceptance lastResort)
   {
-    return NameOf(m_Perturbation->Perturb(FlatCell(), lastResort));
+    return NameOf(m_Made.Perturbation().Perturb(FlatCell(), lastResort));
   }
 
   const dr::SphereOracle &
   Oracle() const
   {
-    return m_Oracle;
+    return m_Made.Oracle();
   }
 
 private:
-  dr::SphereOracle                           m_Oracle;
-  dr::RefinementParameters                   m_Parameters;
-  dr::detail::MeshState                      m_State;
-  dr::detail::LocalSampling                  m_Sizing;
-  dr::RefinementStatistics                   m_Statistics;
-  dr::detail::BoxProtection                  m_Box;
-  std::optional<dr::detail::RefinementRules> m_Rules;
-  std::optional<SliverPerturbation>          m_Perturbation;
+  static std::vector<dr::Vector3>
+  CornerPoints()
+  {
+    const std::array<dr::Vector3, 4> corners = Corners();
+    return { corners.begin(), corners.end() };
+  }
+
+  static dr::AxisAlignedBox
+  Bounds()
+  {
+    dr::AxisAlignedBox bounds;
+    bounds.lower = { { -10.0, -10.0, -10.0 } };
+    bounds.upper = { { 10.0, 10.0, 10.0 } };
+    return bounds;
+  }
+
+  HandMadeTriangulation<dr::SphereOracle> m_Made;
 };
 
 } // namespace
@@ -420,57 +479,8 @@ class HandMadeRimSliver
 {
 public:
   HandMadeRimSliver()
-    : m_Oracle(dr::Vector3{ { 0.0, 0.0, 0.0 } }, 200.0, PlateRadius, 50.0, RimRadius)
-    , m_Parameters(Parameters())
-    , m_State(m_Oracle, m_Parameters)
-    , m_Sizing(m_Parameters.surfaceSamplingDistance)
-    , m_Box(m_State, m_Parameters.surfaceSamplingDistance, m_Statistics)
-  {
-    m_State.SetNewCellsHook([](const std::vector<CellHandle> &) {});
-    m_Box.CreateBox(m_Oracle.ObjectBounds());
-    struct Row
-    {
-      double u;
-      double z;
-      bool   atTens;
-    };
-    const std::array<Row, 7>  rows{ { { 25.0, 0.0, false },
-                                      { 24.0, 7.0, true },
-                                      { 24.0, -7.0, true },
-                                      { 20.0, 15.0, false },
-                                      { 20.0, -15.0, false },
-                                      { 15.0, 20.0, true },
-                                      { 15.0, -20.0, true } } };
-    const std::vector<double> tens{ -20.0, -10.0, 0.0, 10.0, 20.0 };
-    const std::vector<double> fives{ -15.0, -5.0, 5.0, 15.0 };
-    std::vector<dr::Vector3>  freePoints;
-    for (const Row & row : rows)
-    {
-      for (const double x : row.atTens ? tens : fives)
-      {
-        const double pulled = row.u == RimRadius && std::abs(x) == 5.0 ? std::copysign(7.0, x) : x;
-        m_SurfacePoints.push_back({ { pulled, PlateRadius + row.u, row.z } });
-      }
-      for (const double radius : { 16.0, 34.0 })
-      {
-        for (const double x : row.atTens ? fives : tens)
-        {
-          freePoints.push_back(
-            { { x, PlateRadius + std::round(row.u * radius / RimRadius), std::round(row.z * radius / RimRadius) } });
-        }
-      }
-    }
-    for (const dr::Vector3 & point : m_SurfacePoints)
-    {
-      EXPECT_TRUE(m_State.InsertVertex(point, dr::VertexKind::Feature, CellHandle()).has_value());
-    }
-    for (const dr::Vector3 & point : freePoints)
-    {
-      EXPECT_TRUE(m_State.InsertVertex(point, dr::VertexKind::Free, CellHandle()).has_value());
-    }
-    m_Rules.emplace(m_Oracle, m_Parameters, m_State, m_Sizing, m_Box.Box());
-    m_Perturbation.emplace(m_Oracle, m_Parameters, m_State, *m_Rules, m_Sizing, m_Box);
-  }
+    : HandMadeRimSliver(Points())
+  {}
 
   static std::array<dr::Vector3, 4>
   SliverCorners()
@@ -491,43 +501,93 @@ public:
   CellHandle
   SliverCell() const
   {
-    return CellWithCorners(m_State, SliverCorners());
+    return CellWithCorners(m_Made.State(), SliverCorners());
   }
 
   std::optional<dr::detail::Action>
   ApplicableRule(CellHandle cell) const
   {
-    return m_Rules->FindApplicableRule(cell);
+    return m_Made.Rules().FindApplicableRule(cell);
   }
 
   std::string
   Perturb()
   {
-    return NameOf(m_Perturbation->Perturb(SliverCell()));
+    return NameOf(m_Made.Perturbation().Perturb(SliverCell()));
   }
 
   std::vector<dr::detail::VertexHandle>
   MovedSurfaceVertices() const
   {
-    return FeatureVerticesAwayFrom(m_State, m_SurfacePoints);
+    return FeatureVerticesAwayFrom(m_Made.State(), m_SurfacePoints);
   }
 
   double
   LargestCosineAround(dr::detail::VertexHandle vertex) const
   {
-    return LargestTissueCosineAround(m_State, vertex);
+    return LargestTissueCosineAround(m_Made.State(), vertex);
   }
 
   const dr::Genus2Oracle &
   Oracle() const
   {
-    return m_Oracle;
+    return m_Made.Oracle();
   }
 
   static constexpr double PlateRadius = 200.0;
   static constexpr double RimRadius = 25.0;
 
 private:
+  /** The surface points, in staggered rows along x on the rim, and the free points inside and outside it. */
+  static std::pair<std::vector<dr::Vector3>, std::vector<dr::Vector3>>
+  Points()
+  {
+    struct Row
+    {
+      double u;
+      double z;
+      bool   atTens;
+    };
+    std::pair<std::vector<dr::Vector3>, std::vector<dr::Vector3>> points;
+    const std::array<Row, 7>                                      rows{ { { 25.0, 0.0, false },
+                                                                          { 24.0, 7.0, true },
+                                                                          { 24.0, -7.0, true },
+                                                                          { 20.0, 15.0, false },
+                                                                          { 20.0, -15.0, false },
+                                                                          { 15.0, 20.0, true },
+                                                                          { 15.0, -20.0, true } } };
+    const std::vector<double>                                     tens{ -20.0, -10.0, 0.0, 10.0, 20.0 };
+    const std::vector<double>                                     fives{ -15.0, -5.0, 5.0, 15.0 };
+    for (const Row & row : rows)
+    {
+      for (const double x : row.atTens ? tens : fives)
+      {
+        const double pulled = row.u == RimRadius && std::abs(x) == 5.0 ? std::copysign(7.0, x) : x;
+        points.first.push_back({ { pulled, PlateRadius + row.u, row.z } });
+      }
+      for (const double radius : { 16.0, 34.0 })
+      {
+        for (const double x : row.atTens ? fives : tens)
+        {
+          points.second.push_back(
+            { { x, PlateRadius + std::round(row.u * radius / RimRadius), std::round(row.z * radius / RimRadius) } });
+        }
+      }
+    }
+    return points;
+  }
+
+  explicit HandMadeRimSliver(const std::pair<std::vector<dr::Vector3>, std::vector<dr::Vector3>> & points)
+    : m_Made(RimOracle(), Parameters(), RimOracle().ObjectBounds(), points.first, points.second)
+    , m_SurfacePoints(points.first)
+  {}
+
+  static dr::Genus2Oracle
+  RimOracle()
+  {
+    return dr::Genus2Oracle(dr::Vector3{ { 0.0, 0.0, 0.0 } }, 200.0, PlateRadius, 50.0, RimRadius);
+  }
+
   static dr::RefinementParameters
   Parameters()
   {
@@ -538,15 +598,8 @@ private:
     return parameters;
   }
 
-  dr::Genus2Oracle                           m_Oracle;
-  dr::RefinementParameters                   m_Parameters;
-  dr::detail::MeshState                      m_State;
-  dr::detail::LocalSampling                  m_Sizing;
-  dr::RefinementStatistics                   m_Statistics;
-  dr::detail::BoxProtection                  m_Box;
-  std::optional<dr::detail::RefinementRules> m_Rules;
-  std::optional<SliverPerturbation>          m_Perturbation;
-  std::vector<dr::Vector3>                   m_SurfacePoints;
+  HandMadeTriangulation<dr::Genus2Oracle> m_Made;
+  std::vector<dr::Vector3>                m_SurfacePoints;
 };
 
 } // namespace
