@@ -449,12 +449,13 @@ DelaunayImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
                                    },
                                    std::min(this->GetNumberOfWorkUnits(),
                                             this->GetMultiThreader()->GetMaximumNumberOfThreads()) };
+  const ImageLabelSelection selection(mapping);
+  m_SelectedLabelsNotInImage = selection.SelectedLabelsNotIn(*image);
   // The label image is the refinement's largest buffer with the nearest-interface map: in one byte a voxel where
   // every selected label fits, it takes a quarter of the memory it took in four (bench/README.md, "The label image
   // in one byte a voxel").
-  m_SelectedLabelsNotInImage = ImageLabelSelection(mapping).SelectedLabelsNotIn(*image);
   SizeValueType numberOfObjectVoxels = 0;
-  m_BytesPerVoxelLabel = ImageLabelSelection(mapping).BytesPerVoxelLabel(*image);
+  m_BytesPerVoxelLabel = selection.BytesPerVoxelLabel(*image);
   switch (m_BytesPerVoxelLabel)
   {
     case 1:

@@ -1072,7 +1072,7 @@ apply_mutation() {
       ;;
     absent-labels-unreported)
       mutate "$tree/include/itkDelaunayImageToMeshFilter.hxx" \
-        '  m_SelectedLabelsNotInImage = ImageLabelSelection(mapping).SelectedLabelsNotIn(*image);
+        '  m_SelectedLabelsNotInImage = selection.SelectedLabelsNotIn(*image);
 ' ''
       ;;
     selected-no-label-accepted)
