@@ -635,3 +635,168 @@ TEST(SliverPerturbation, ASliverOfSurfaceVerticesLosesACornerMovedAlongTheSurfac
   EXPECT_LT(nearestCorner, 0.5 * dr::ShortestEdgeLength(corners)) << "no corner of the sliver moved";
   EXPECT_LT(rim.LargestCosineAround(moved.front()), cosineBefore) << "the move made a tissue cell no better";
 }
+
+namespace
+{
+
+/** The box rules E1-E3 (src/DelaunayRefinementBoxProtection.h, docs/algorithm.md, "Box rules E1-E3") on the bare box
+ * of the set-up, its eight corners the only vertices: the object's bounds [0, 4] x [0, 1] x [0, 1] at δ = 0.5 grow by
+ * 3δ into the box [-1.5, 5.5] x [-1.5, 2.5] x [-1.5, 2.5], 7 x 4 x 4. Its faces are split into two right triangles
+ * each, whose circumcentre is the face's centre. The meshes would hide a rule that protects the wrong edge or face:
+ * the box is background, and only the number of vertices around it changes. */
+class BareBox
+{
+public:
+  static constexpr double Delta = 0.5;
+
+  BareBox()
+    : m_Oracle(dr::Vector3{ { 2.0, 0.5, 0.5 } }, 0.5)
+    , m_Parameters(PaperParameters(Delta))
+    , m_State(m_Oracle, m_Parameters)
+    , m_Box(m_State, Delta, m_Statistics)
+  {
+    m_State.SetNewCellsHook([](const std::vector<CellHandle> &) {});
+    dr::AxisAlignedBox bounds;
+    bounds.lower = { { 0.0, 0.0, 0.0 } };
+    bounds.upper = { { 4.0, 1.0, 1.0 } };
+    m_Box.CreateBox(bounds);
+  }
+
+  const dr::AxisAlignedBox &
+  Box() const
+  {
+    return m_Box.Box();
+  }
+
+  /** Asks the box rules about a circumcentre `point` of the cell holding `inside`. */
+  bool
+  Protect(const dr::Vector3 & point, const dr::Vector3 & inside)
+  {
+    const CellHandle cell = m_State.GetTriangulation().locate(dr::detail::ToCgal(inside));
+    EXPECT_FALSE(m_State.GetTriangulation().is_infinite(cell));
+    return m_Box.ProtectBox(point, cell);
+  }
+
+  /** The vertices of `kind`, by position. */
+  std::vector<dr::Vector3>
+  VerticesOfKind(dr::VertexKind kind) const
+  {
+    std::vector<dr::Vector3> points;
+    for (auto vertex = m_State.GetTriangulation().finite_vertices_begin();
+         vertex != m_State.GetTriangulation().finite_vertices_end();
+         ++vertex)
+    {
+      if (vertex->info().kind == kind)
+      {
+        points.push_back(m_State.PointOf(vertex));
+      }
+    }
+    return points;
+  }
+
+  bool
+  HasVertexAt(dr::VertexKind kind, const dr::Vector3 & point) const
+  {
+    const std::vector<dr::Vector3> points = VerticesOfKind(kind);
+    return std::find(points.begin(), points.end(), point) != points.end();
+  }
+
+  const dr::RefinementStatistics &
+  Statistics() const
+  {
+    return m_Statistics;
+  }
+
+private:
+  dr::SphereOracle          m_Oracle;
+  dr::RefinementParameters  m_Parameters;
+  dr::detail::MeshState     m_State;
+  dr::RefinementStatistics  m_Statistics;
+  dr::detail::BoxProtection m_Box;
+};
+
+} // namespace
+
+/** The box is the object's bounds grown by 3δ (docs/algorithm.md, "Set-up"), and E1 protects each of its 12 edges: a
+ * circumcentre just outside the box beside an edge's midpoint (0.1 off both faces, deep inside that edge's diametral
+ * ball and in no other edge's) makes E1 insert the midpoint as a box-edge vertex; then one beside the point a quarter
+ * along the edge, inside the ball of the half subsegment only, makes it insert that quarter point: the first split was
+ * recorded on the edge. */
+TEST(BoxRules, E1SplitsEachOfTheTwelveEdgesAtItsSubsegmentsMidpoint)
+{
+  BareBox                  box;
+  const dr::AxisAlignedBox expectedBox{ { { -1.5, -1.5, -1.5 } }, { { 5.5, 2.5, 2.5 } } };
+  EXPECT_EQ(box.Box().lower, expectedBox.lower);
+  EXPECT_EQ(box.Box().upper, expectedBox.upper);
+  std::size_t edges = 0;
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    for (const double firstOther : { 0.0, 1.0 })
+    {
+      for (const double secondOther : { 0.0, 1.0 })
+      {
+        // The edge along `axis` at the lower or upper side in each other axis, and the direction out of the box there.
+        dr::Vector3  start{};
+        dr::Vector3  outward{};
+        const int    others[2] = { (axis + 1) % 3, (axis + 2) % 3 };
+        const double sides[2] = { firstOther, secondOther };
+        for (int other = 0; other < 2; ++other)
+        {
+          const int along = others[other];
+          start[along] = sides[other] == 0.0 ? expectedBox.lower[along] : expectedBox.upper[along];
+          outward[along] = sides[other] == 0.0 ? -0.1 : 0.1;
+        }
+        const double length = expectedBox.upper[axis] - expectedBox.lower[axis];
+        start[axis] = expectedBox.lower[axis];
+        for (const double fraction : { 0.5, 0.25 })
+        {
+          dr::Vector3 split = start;
+          split[axis] += fraction * length;
+          SCOPED_TRACE(::testing::Message() << "edge along axis " << axis << ", sides " << firstOther << " "
+                                            << secondOther << ", split at " << fraction);
+          EXPECT_FALSE(box.HasVertexAt(dr::VertexKind::BoxEdge, split));
+          EXPECT_TRUE(box.Protect(dr::operator+(split, outward), { { 2.0, 0.5, 0.5 } }));
+          EXPECT_TRUE(box.HasVertexAt(dr::VertexKind::BoxEdge, split));
+        }
+        ++edges;
+      }
+    }
+  }
+  EXPECT_EQ(edges, 12u);
+  EXPECT_EQ(box.Statistics().insertionsE1, 24u);
+  EXPECT_EQ(box.VerticesOfKind(dr::VertexKind::BoxEdge).size(), 8u + 24u);
+  EXPECT_EQ(box.Statistics().insertionsE2 + box.Statistics().insertionsE3, 0u);
+}
+
+/** A circumcentre 1 beyond the middle of the box's face x = 5.5 (4 x 4), in no edge's diametral ball, of a cell
+ * beside that face: the segment from the cell's centroid to it leaves the box through that face, whose triangles'
+ * circumcentre, the face's centre (5.5, 0.5, 0.5), lies on the balls of its four edges (2 from their midpoints, their
+ * radius) but in none: E2 inserts the centre as a box-face vertex. Nothing is inserted on the opposite face. */
+TEST(BoxRules, E2SplitsTheFaceTheCircumcentreLiesBeyond)
+{
+  BareBox box;
+  EXPECT_TRUE(box.Protect({ { 6.5, 0.6, 0.57 } }, { { 5.0, 0.6, 0.57 } }));
+  EXPECT_EQ(box.Statistics().insertionsE2, 1u);
+  EXPECT_EQ(box.Statistics().insertionsE1 + box.Statistics().insertionsE3, 0u);
+  const std::vector<dr::Vector3> faceVertices = box.VerticesOfKind(dr::VertexKind::BoxFace);
+  ASSERT_EQ(faceVertices.size(), 1u);
+  // On the face exactly; at its centre to the rounding of a triangle's circumcentre.
+  EXPECT_EQ(faceVertices[0][0], 5.5);
+  EXPECT_NEAR(faceVertices[0][1], 0.5, 1e-12);
+  EXPECT_NEAR(faceVertices[0][2], 0.5, 1e-12);
+}
+
+/** A circumcentre 3 beyond the middle of the box's face y = 2.5 (7 x 4), in no edge's diametral ball, of a cell beside
+ * that face: the face's centre (2, 2.5, 0.5) lies 2 from the midpoints of the face's two edges of length 7 (radius
+ * 3.5), inside their balls, so E3 splits one of those edges at its midpoint instead of inserting the centre. */
+TEST(BoxRules, E3SplitsTheEdgeAFacesCentreEncroaches)
+{
+  BareBox box;
+  EXPECT_TRUE(box.Protect({ { 2.1, 5.5, 0.57 } }, { { 2.1, 2.0, 0.57 } }));
+  EXPECT_EQ(box.Statistics().insertionsE3, 1u);
+  EXPECT_EQ(box.Statistics().insertionsE1 + box.Statistics().insertionsE2, 0u);
+  EXPECT_TRUE(box.VerticesOfKind(dr::VertexKind::BoxFace).empty());
+  EXPECT_NE(box.HasVertexAt(dr::VertexKind::BoxEdge, { { 2.0, 2.5, -1.5 } }),
+            box.HasVertexAt(dr::VertexKind::BoxEdge, { { 2.0, 2.5, 2.5 } }))
+    << "one of the two midpoints";
+}
