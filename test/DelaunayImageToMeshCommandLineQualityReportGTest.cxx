@@ -21,6 +21,7 @@
 // of the same cube. Every expected value is derived in the comments.
 
 #include "DelaunayImageToMeshQualityReport.h"
+#include "DelaunayImageToMeshSurfaceExtraction.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -33,6 +34,8 @@
 #include <stdexcept>
 #include <string>
 #include <tuple>
+#include <utility>
+#include <vector>
 
 namespace delaunay_refinement
 {
@@ -705,6 +708,155 @@ TEST(QualityReport, PinchedVertexIsCountedPerLabel)
 TEST(QualityReport, PeakMemoryIsMeasured)
 {
   EXPECT_GT(PeakResidentMemoryBytes(), 1024u * 1024u);
+}
+
+
+/** The midpoint, in voxel indices, of every pair of face-neighbouring voxels of different labels, the volume
+ * surrounded by one voxel of background: where the marching-cubes surfaces of the labels cross the lines between voxel
+ * centres (VTK's discrete flying edges puts a vertex at each such midpoint, and every triangle of a cell whose lines it
+ * crosses uses it). Found by a scan of the voxels, independently of VTK. */
+std::vector<Vector3>
+MidpointsBetweenDifferentLabels(const LabelVolume & volume)
+{
+  const auto labelAt = [&](long i, long j, long k) -> Label {
+    if (i < 0 || j < 0 || k < 0 || i >= long(volume.size[0]) || j >= long(volume.size[1]) || k >= long(volume.size[2]))
+    {
+      return BackgroundLabel;
+    }
+    return volume.Labels()[std::size_t(i) + volume.size[0] * (std::size_t(j) + volume.size[1] * std::size_t(k))];
+  };
+  std::vector<Vector3> midpoints;
+  for (long k = -1; k <= long(volume.size[2]); ++k)
+  {
+    for (long j = -1; j <= long(volume.size[1]); ++j)
+    {
+      for (long i = -1; i <= long(volume.size[0]); ++i)
+      {
+        for (int axis = 0; axis < 3; ++axis)
+        {
+          const long next[3] = { i + (axis == 0), j + (axis == 1), k + (axis == 2) };
+          if (labelAt(i, j, k) != labelAt(next[0], next[1], next[2]))
+          {
+            Vector3 midpoint{ { double(i), double(j), double(k) } };
+            midpoint[axis] += 0.5;
+            midpoints.push_back(midpoint);
+          }
+        }
+      }
+    }
+  }
+  return midpoints;
+}
+
+/** The physical point of a continuous voxel index, written out here as the header defines it: origin + direction x
+ * (spacing ⊙ index). */
+Vector3
+PhysicalPointOf(const LabelVolume & volume, const Vector3 & index)
+{
+  Vector3 point = volume.origin;
+  for (int row = 0; row < 3; ++row)
+  {
+    for (int column = 0; column < 3; ++column)
+    {
+      point[row] += volume.direction[row][column] * (volume.spacing[column] * index[column]);
+    }
+  }
+  return point;
+}
+
+/** How many of `points` lie within 1e-9 of `point`. */
+std::size_t
+CountNear(const std::vector<Vector3> & points, const Vector3 & point)
+{
+  return std::size_t(
+    std::count_if(points.begin(), points.end(), [&](const Vector3 & other) { return Distance(other, point) < 1e-9; }));
+}
+
+/** The undirected edges of a surface's triangles, by their ends' positions, with how many triangles use each. */
+std::map<std::pair<Vector3, Vector3>, int>
+TrianglesPerEdge(const TriangleSurface & surface)
+{
+  std::map<std::pair<Vector3, Vector3>, int> count;
+  for (const auto & triangle : surface.triangles)
+  {
+    for (int corner = 0; corner < 3; ++corner)
+    {
+      Vector3 a = surface.points[triangle[corner]];
+      Vector3 b = surface.points[triangle[(corner + 1) % 3]];
+      if (b < a)
+      {
+        std::swap(a, b);
+      }
+      ++count[{ a, b }];
+    }
+  }
+  return count;
+}
+
+/** Three labels and background in 3 x 2 x 2 voxels touching every face of the volume, on an anisotropic grid turned
+ * a quarter about z and moved away from the origin: the vertices of the label surfaces are exactly the midpoints
+ * between neighbouring voxels of different labels (the border ones too, against the background put around the
+ * volume), placed in physical space by the volume's origin, spacing and direction. */
+TEST(LabelSurfaces, VerticesAreTheMidpointsBetweenDifferentLabelsInPhysicalSpace)
+{
+  LabelVolume volume;
+  volume.size = { { 3, 2, 2 } };
+  volume.spacing = { { 0.5, 1.0, 2.0 } };
+  volume.origin = { { 10.0, 20.0, 30.0 } };
+  volume.direction = { { { { 0.0, -1.0, 0.0 } }, { { 1.0, 0.0, 0.0 } }, { { 0.0, 0.0, 1.0 } } } };
+  // x = 0: label 1; x = 1: label 2; x = 2: label 3, but background at (2, 0, 0) and label 1 at (2, 1, 1).
+  volume.labels = { 1, 2, 0, 1, 2, 3, 1, 2, 3, 1, 2, 1 };
+  const TriangleSurface surface = ExtractLabelSurfaces(volume);
+  ASSERT_FALSE(surface.triangles.empty());
+  std::vector<Vector3> expected;
+  for (const Vector3 & index : MidpointsBetweenDifferentLabels(volume))
+  {
+    expected.push_back(PhysicalPointOf(volume, index));
+  }
+  std::vector<Vector3> used;
+  for (const auto & triangle : surface.triangles)
+  {
+    for (const uint32_t vertex : triangle)
+    {
+      ASSERT_LT(vertex, surface.points.size());
+      used.push_back(surface.points[vertex]);
+    }
+  }
+  for (const Vector3 & point : used)
+  {
+    EXPECT_EQ(CountNear(expected, point), 1u) << "a vertex at " << point[0] << " " << point[1] << " " << point[2];
+  }
+  for (const Vector3 & point : expected)
+  {
+    EXPECT_GT(CountNear(used, point), 0u) << "no vertex at " << point[0] << " " << point[1] << " " << point[2];
+  }
+}
+
+/** The surface of one label touching every face of the volume is closed there, the volume being surrounded by
+ * background first: every edge of its triangles is on exactly two of them, and it reaches half a voxel beyond the
+ * outermost voxel centres on every side. */
+TEST(LabelSurfaces, OneLabelFillingTheVolumeGivesOneClosedSurface)
+{
+  LabelVolume volume;
+  volume.size = { { 2, 3, 2 } };
+  volume.labels.assign(12, 5);
+  const TriangleSurface surface = ExtractLabelSurfaces(volume);
+  ASSERT_FALSE(surface.triangles.empty());
+  for (const auto & [edge, triangles] : TrianglesPerEdge(surface))
+  {
+    EXPECT_EQ(triangles, 2) << "edge from " << edge.first[0] << " " << edge.first[1] << " " << edge.first[2] << " to "
+                            << edge.second[0] << " " << edge.second[1] << " " << edge.second[2];
+  }
+  // The surface spans the volume and the half voxel around it, on every side.
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    const auto [lowest, highest] =
+      std::minmax_element(surface.points.begin(), surface.points.end(), [axis](const Vector3 & a, const Vector3 & b) {
+        return a[axis] < b[axis];
+      });
+    EXPECT_EQ((*lowest)[axis], -0.5);
+    EXPECT_EQ((*highest)[axis], double(volume.size[axis]) - 0.5);
+  }
 }
 
 } // namespace
