@@ -29,6 +29,7 @@
 
 #include <array>
 #include <cstdint>
+#include <new>
 #include <numeric>
 #include <vector>
 
@@ -99,6 +100,21 @@ TEST(LargeBuffers, AdviceLeavesTheContentsAlone)
   AdviseHugePages(bytes.data() + 3, bytes.size() - 3);
   AdviseHugePages(bytes.data(), 100); // no whole huge page inside: nothing to advise
   EXPECT_EQ(bytes, before);
+}
+
+/** A count whose bytes do not fit a size_t is refused as such (std::bad_array_new_length), before its size in bytes
+ * wraps around: 2^61 + 2^18 doubles are 2^64 + 2 MiB bytes, which wrap to 2 MiB, a large buffer (not std::allocator's,
+ * which would refuse the count itself) far smaller than asked for. Counts whose bytes fit are allocated. */
+TEST(LargeBuffers, ACountWhoseBytesDoNotFitIsRefused)
+{
+  LargeBufferAllocator<double> allocator;
+  const std::size_t            wrapsToALargeBuffer = (std::size_t{ 1 } << 61) + (std::size_t{ 1 } << 18);
+  EXPECT_THROW(allocator.allocate(wrapsToALargeBuffer), std::bad_array_new_length);
+  EXPECT_THROW(allocator.allocate(std::size_t(-1)), std::bad_array_new_length);
+  const std::size_t large = LargeBufferBytes / sizeof(double);
+  double *          memory = allocator.allocate(large);
+  memory[large - 1] = 1.0;
+  allocator.deallocate(memory, large);
 }
 
 /** A grid of a few million voxels (its flags and lists are large buffers): a block of label 1 crossed by a sheet
