@@ -251,7 +251,47 @@
 #   selection-repeats-kept        a label selected twice is kept twice, and the second copy, never marked found, is
 #                                 reported as not in the image; caught by ImageLabelSelection.SelectedLabelsNotInThe-
 #                                 ImageAreThoseNoVoxelRoundsTo and the filter's test
-#
+#   Bugs in files no deliberate bug had reached (added 2026-12-03, second stop): the box rules, the spatial grid, R4′'s
+#   conflict regions, the marching-cubes reference surface and the large buffers; run by hand on the GoogleTest
+#   executables and the tests that use each file:
+#   box-margin-two-delta          the box is the object's bounds grown by 2δ, not 3δ (closer than 2√2·δ to the
+#                                 surface); only the fingerprints, the k-means baseline and the two RandomizedKnownDefect
+#                                 tests failed; now caught by BoxRules.E1SplitsEachOfTheTwelveEdgesAtItsSubsegmentsMidpoint
+#   box-exit-opposite-face        E2/E3 take the box facet where the segment to the circumcentre would leave the box
+#                                 backwards, on the opposite face; caught by CoreSliverRemoval.KeepsTheBoundaryBounds-
+#                                 OnEveryShape and by BoxRules.E2SplitsTheFaceTheCircumcentreLiesBeyond
+#   box-e3-skipped                E3 never splits the box edge a facet's centre encroaches: E2 inserts the centre
+#                                 anyway; only the fingerprints and tests whose cases the changed meshes moved failed
+#                                 (two RandomizedRegression, two RandomizedKnownDefect, one HostileShapes bound); now
+#                                 caught by BoxRules.E3SplitsTheEdgeAFacesCentreEncroaches
+#   grid-skips-last-cell-row      the spatial grid's queries skip the last row of cells along x, so R1 and R2 miss
+#                                 vertices within their radius; caught by the downstream Lamé shell and a CLI time-out
+#                                 (after 10 minutes), now at once by SpatialGrid.FindsExactlyThePointsWithinTheRadius-
+#                                 InEveryCell
+#   surfaces-last-label-only      the marching-cubes reference surface has only the largest label's surface (each label
+#                                 overwrote the last contour value); caught by the CLI's Inputs test (implausible
+#                                 distances) and by LabelSurfaces.VerticesAreTheMidpointsBetweenDifferentLabelsIn-
+#                                 PhysicalSpace
+#   vtk-top-unpadded              the image given to marching cubes has no background slice above the volume, so a label
+#                                 touching its last slice is left open there; no test that reads the reference surface
+#                                 (the reports, the brain mask's, the command line's, the downstream ones) failed; now
+#                                 caught by both LabelSurfaces tests
+#   vtk-origin-zero               that image's origin is 0, not -1 voxel: the reference surface moves by a voxel; caught
+#                                 by QualityReport.DistanceToMarchingCubes, the brain mask's distance and both
+#                                 LabelSurfaces tests
+#   physical-spacing-by-row       a surface point's physical position scales its index by the spacing of the row's axis,
+#                                 not the column's (the same on unturned grids); caught by the brain mask's distance, the
+#                                 CLI's Inputs test and LabelSurfaces.VerticesAreTheMidpointsBetweenDifferentLabelsIn-
+#                                 PhysicalSpace
+#   grid-remove-drops-last        the spatial grid's removal drops the last entry of the cell, not the named one (the
+#                                 brain-mask fingerprint failed; the rest of the suite was not run); now caught by
+#                                 SpatialGrid.RemovesTheNamedEntryAndNoOther
+#   grid-center-cell-closed-ball  AnyWithin() counts an entry exactly the radius away in the query's own cell as within
+#                                 (the balls are open); the rest of the suite was not run; caught by SpatialGrid.AnEntry-
+#                                 ExactlyTheRadiusAwayIsNotWithin
+#   large-count-overflow-unchecked the large-buffer allocator does not check that a count's bytes fit a size_t, so
+#                                 2^61 + 2^18 doubles get a 2 MiB buffer; no other test allocates such counts; caught by
+#                                 LargeBuffers.ACountWhoseBytesDoNotFitIsRefused
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
 # arguments to ctest (e.g. "-R Randomized" to try one part of the suite). Run it after scripts/setup.sh.
@@ -466,7 +506,10 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   sheared-direction-accepted negative-spacing-accepted moves-stop-a-level-short move-keeps-a-worse-angle
   flat-corner-moves-inwards bisection-returns-an-end move-refuses-places-kept absent-labels-unreported
   selected-no-label-accepted not-in-image-row-inverted selection-repeats-kept
-  normal-sums-unoriented relabel-flag-kept-moved-back)
+  normal-sums-unoriented box-margin-two-delta box-exit-opposite-face box-e3-skipped grid-skips-last-cell-row
+  surfaces-last-label-only vtk-top-unpadded vtk-origin-zero physical-spacing-by-row grid-remove-drops-last
+  grid-center-cell-closed-ball large-count-overflow-unchecked
+  relabel-flag-kept-moved-back)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -1113,6 +1156,56 @@ apply_mutation() {
       mutate "$tree/src/DelaunayRefinementOracle.cxx" '  return 0.5 * (a + b);
 }' '  return a;
 }'
+      ;;
+    box-margin-two-delta)
+      mutate "$tree/src/DelaunayRefinementBoxProtection.h" 'const double margin = 3.0 * m_Delta;' \
+        'const double margin = 2.0 * m_Delta;'
+      ;;
+    box-exit-opposite-face)
+      mutate "$tree/src/DelaunayRefinementBoxProtection.h" 'const double bound = direction[axis] > 0.0 ?' \
+        'const double bound = direction[axis] < 0.0 ?'
+      ;;
+    box-e3-skipped)
+      mutate "$tree/src/DelaunayRefinementBoxProtection.h" 'subsegment = FindEncroachedBoxSubsegment(facetCenter))' \
+        'subsegment = std::optional<BoxSubsegment>())'
+      ;;
+    grid-skips-last-cell-row)
+      mutate "$tree/src/DelaunayRefinementSpatialGrid.h" 'for (long i = lower.i; i <= upper.i; ++i)' \
+        'for (long i = lower.i; i < upper.i; ++i)'
+      ;;
+    surfaces-last-label-only)
+      mutate "$tree/src/DelaunayImageToMeshSurfaceExtraction.cxx" 'flyingEdges->SetValue(contour++,' \
+        'flyingEdges->SetValue(contour,'
+      ;;
+    vtk-top-unpadded)
+      mutate "$tree/src/DelaunayImageToMeshVtkLabelImage.cxx" 'static_cast<int>(volume.size[2]) + 2 };' \
+        'static_cast<int>(volume.size[2]) + 1 };'
+      ;;
+    vtk-origin-zero)
+      mutate "$tree/src/DelaunayImageToMeshVtkLabelImage.cxx" 'image->SetOrigin(-1.0, -1.0, -1.0);' \
+        'image->SetOrigin(0.0, 0.0, 0.0);'
+      ;;
+    physical-spacing-by-row)
+      mutate "$tree/include/DelaunayImageToMeshSurfaceExtraction.h" \
+        'direction[row][column] * spacing[column] * index[column]' 'direction[row][column] * spacing[row] * index[column]'
+      ;;
+    grid-remove-drops-last)
+      mutate "$tree/src/DelaunayRefinementSpatialGrid.h" '      *found = entries.back();
+' ''
+      ;;
+    grid-center-cell-closed-ball)
+      mutate "$tree/src/DelaunayRefinementSpatialGrid.h" '        if (SquaredNorm(entry.point - center) < squaredRadius)
+        {
+          return true;' '        if (SquaredNorm(entry.point - center) <= squaredRadius)
+        {
+          return true;'
+      ;;
+    large-count-overflow-unchecked)
+      mutate "$tree/include/DelaunayRefinementLargeBuffers.h" '    if (count > std::size_t(-1) / sizeof(T))
+    {
+      throw std::bad_array_new_length();
+    }
+' ''
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2
