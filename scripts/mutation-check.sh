@@ -235,6 +235,11 @@
 #                                 check and the report counts it; the fingerprinted meshes stay the same, and all 505
 #                                 tests passed (run on 2026-12-03); now caught by the randomized suite, which requires every listed
 #                                 tetrahedron whose circumcentre is well inside one label to carry another
+#   calling-thread-may-get-none   the work over pieces on threads lets the other threads take every piece, the first
+#                                 too, before the calling thread starts (as it was until 2026-12-03): on a loaded
+#                                 machine the calling thread, the only one that reports progress and sees an abort, did
+#                                 neither until the others ended; caught by ParallelPieces.TheFirstIndexIsWorkedOnThe-
+#                                 CallingThread within a few of its 600 rounds (run by hand three times)
 #   bisection-returns-an-end      the bisection returns the end of its last bracket on a's side, not the bracket's
 #                                 midpoint (within the tolerance still, so every feature vertex stays on the surface);
 #                                 before the new test only RandomizedStability.FirstMeshesOfEveryFamilyChangeByAFewPer-
@@ -509,7 +514,7 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   normal-sums-unoriented box-margin-two-delta box-exit-opposite-face box-e3-skipped grid-skips-last-cell-row
   surfaces-last-label-only vtk-top-unpadded vtk-origin-zero physical-spacing-by-row grid-remove-drops-last
   grid-center-cell-closed-ball large-count-overflow-unchecked
-  relabel-flag-kept-moved-back)
+  relabel-flag-kept-moved-back calling-thread-may-get-none)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -1143,6 +1148,15 @@ apply_mutation() {
     normal-sums-unoriented)
       mutate "$tree/src/DelaunayRefinementSliverPerturbation.h" \
         'sum = cell->cache.label < beyond ? sum + outward : sum - outward;' 'sum = sum + outward;'
+      ;;
+    calling-thread-may-get-none)
+      mutate "$tree/src/DelaunayRefinementParallel.h" 'std::atomic<std::size_t> next{ 1 };' \
+        'std::atomic<std::size_t> next{ 0 };'
+      mutate "$tree/src/DelaunayRefinementParallel.h" '    if (count > 0)
+    {
+      workOn(0, true);
+    }
+    takeIndices(true);' '    takeIndices(true);'
       ;;
     relabel-flag-kept-moved-back)
       mutate "$tree/src/DelaunayRefinementTopologyRelabel.h" '      if (change.cell->cache.label == change.originalLabel)

@@ -84,8 +84,9 @@ ForEachRangeInParallel(std::size_t count, std::size_t threads, std::size_t minim
 constexpr std::chrono::milliseconds CallingThreadWaitCheckInterval{ 20 };
 
 /** Calls work(index) for every index in [0, count), on up to `threads` threads that each take the next index when
- * they finish one (for pieces of work of very different sizes); the calling thread takes part and calls
- * `onCallingThread()` before each index it takes, and then every CallingThreadWaitCheckInterval until the other
+ * they finish one (for pieces of work of very different sizes); the calling thread takes part, index 0 always
+ * among its pieces (the first, the largest where the caller sorts them), and calls `onCallingThread()` before each
+ * index it takes, and then every CallingThreadWaitCheckInterval until the other
  * threads have ended (a progress report and a check for an abort, which must not run elsewhere: without the
  * checks while it waits, an abort asked for while another thread opened the largest piece was seen only after it).
  * When that or a call of work throws, no index is started any more (an abort inside one piece stops the others'
@@ -96,27 +97,32 @@ void
 ForEachIndexInParallel(std::size_t count, std::size_t threads, const TWork & work,
                        const TOnCallingThread & onCallingThread)
 {
-  std::atomic<std::size_t> next{ 0 };
+  // Index 0 is the calling thread's, whenever it starts: were the other threads to take every index first (the
+  // calling thread held up on a loaded machine), it would check nothing until they all ended.
+  std::atomic<std::size_t> next{ 1 };
   const std::size_t        used = std::max<std::size_t>(1, std::min(threads, count));
   std::mutex               othersMutex;
   std::condition_variable  othersEnded;
   std::size_t              othersRunning = used - 1;
-  const auto               takeIndices = [&](bool onTheCallingThread) {
+  const auto               workOn = [&](std::size_t index, bool onTheCallingThread) {
+    try
+    {
+      if (onTheCallingThread)
+      {
+        onCallingThread();
+      }
+      work(index);
+    }
+    catch (...)
+    {
+      next = count;
+      throw;
+    }
+  };
+  const auto takeIndices = [&](bool onTheCallingThread) {
     for (std::size_t index = next++; index < count; index = next++)
     {
-      try
-      {
-        if (onTheCallingThread)
-        {
-          onCallingThread();
-        }
-        work(index);
-      }
-      catch (...)
-      {
-        next = count;
-        throw;
-      }
+      workOn(index, onTheCallingThread);
     }
   };
   ForEachRangeInParallel(used, used, 1, [&](std::size_t range, std::size_t) {
@@ -139,6 +145,10 @@ ForEachIndexInParallel(std::size_t count, std::size_t threads, const TWork & wor
       } ended{ othersMutex, othersEnded, othersRunning };
       takeIndices(false);
       return;
+    }
+    if (count > 0)
+    {
+      workOn(0, true);
     }
     takeIndices(true);
     std::unique_lock<std::mutex> lock(othersMutex);

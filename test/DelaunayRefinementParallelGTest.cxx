@@ -58,14 +58,44 @@ WaitUntil(const TReached & reached)
 
 TEST(ParallelPieces, EveryIndexIsWorkedOnce)
 {
-  for (const std::size_t threads : { 1, 2, 3, 8 })
+  for (const std::size_t count : { 0, 1, 2, 37 })
   {
-    std::vector<std::atomic<int>> worked(37);
-    detail::ForEachIndexInParallel(
-      worked.size(), threads, [&worked](std::size_t index) { ++worked[index]; }, [] {});
-    for (std::size_t index = 0; index < worked.size(); ++index)
+    for (const std::size_t threads : { 1, 2, 3, 8 })
     {
-      EXPECT_EQ(worked[index].load(), 1) << "index " << index << " on " << threads << " threads";
+      std::vector<std::atomic<int>> worked(count);
+      detail::ForEachIndexInParallel(
+        worked.size(), threads, [&worked](std::size_t index) { ++worked[index]; }, [] {});
+      for (std::size_t index = 0; index < worked.size(); ++index)
+      {
+        EXPECT_EQ(worked[index].load(), 1) << "index " << index << " of " << count << " on " << threads << " threads";
+      }
+    }
+  }
+}
+
+// The first index is the calling thread's, whichever thread starts first: the calling thread alone reports progress
+// and sees an abort, and were the other threads to take every piece before it started (a loaded machine), it would do
+// neither until they all ended (the regularisation's openings, LabelRegularization.ReportsItsProgressAndStopsWithin-
+// TheOpenings, failed so with the calling thread held up for 200 ms).
+TEST(ParallelPieces, TheFirstIndexIsWorkedOnTheCallingThread)
+{
+  const std::thread::id callingThread = std::this_thread::get_id();
+  for (const std::size_t threads : { 2, 3, 8 })
+  {
+    for (int round = 0; round < 200; ++round)
+    {
+      std::atomic<bool> firstOnTheCallingThread{ false };
+      detail::ForEachIndexInParallel(
+        threads,
+        threads,
+        [&](std::size_t index) {
+          if (index == 0)
+          {
+            firstOnTheCallingThread = std::this_thread::get_id() == callingThread;
+          }
+        },
+        [] {});
+      ASSERT_TRUE(firstOnTheCallingThread) << "round " << round << " on " << threads << " threads";
     }
   }
 }
