@@ -326,6 +326,24 @@ public:
     return *m_Perturbation;
   }
 
+  dr::detail::BoxProtection &
+  BoxRules()
+  {
+    return m_Box;
+  }
+
+  const dr::detail::BoxProtection &
+  BoxRules() const
+  {
+    return m_Box;
+  }
+
+  const dr::RefinementStatistics &
+  Statistics() const
+  {
+    return m_Statistics;
+  }
+
 private:
   TOracle                                    m_Oracle;
   dr::RefinementParameters                   m_Parameters;
@@ -650,45 +668,37 @@ public:
   static constexpr double Delta = 0.5;
 
   BareBox()
-    : m_Oracle(dr::Vector3{ { 2.0, 0.5, 0.5 } }, 0.5)
-    , m_Parameters(PaperParameters(Delta))
-    , m_State(m_Oracle, m_Parameters)
-    , m_Box(m_State, Delta, m_Statistics)
-  {
-    m_State.SetNewCellsHook([](const std::vector<CellHandle> &) {});
-    dr::AxisAlignedBox bounds;
-    bounds.lower = { { 0.0, 0.0, 0.0 } };
-    bounds.upper = { { 4.0, 1.0, 1.0 } };
-    m_Box.CreateBox(bounds);
-  }
+    : m_Made(dr::SphereOracle(dr::Vector3{ { 2.0, 0.5, 0.5 } }, 0.5), PaperParameters(Delta), Bounds(), {}, {})
+  {}
 
   const dr::AxisAlignedBox &
   Box() const
   {
-    return m_Box.Box();
+    return m_Made.BoxRules().Box();
   }
 
   /** Asks the box rules about a circumcentre `point` of the cell holding `inside`. */
   bool
   Protect(const dr::Vector3 & point, const dr::Vector3 & inside)
   {
-    const CellHandle cell = m_State.GetTriangulation().locate(dr::detail::ToCgal(inside));
-    EXPECT_FALSE(m_State.GetTriangulation().is_infinite(cell));
-    return m_Box.ProtectBox(point, cell);
+    const CellHandle cell = m_Made.State().GetTriangulation().locate(dr::detail::ToCgal(inside));
+    EXPECT_FALSE(m_Made.State().GetTriangulation().is_infinite(cell));
+    return m_Made.BoxRules().ProtectBox(point, cell);
   }
 
   /** The vertices of `kind`, by position. */
   std::vector<dr::Vector3>
   VerticesOfKind(dr::VertexKind kind) const
   {
-    std::vector<dr::Vector3> points;
-    for (auto vertex = m_State.GetTriangulation().finite_vertices_begin();
-         vertex != m_State.GetTriangulation().finite_vertices_end();
+    std::vector<dr::Vector3>      points;
+    const dr::detail::MeshState & state = m_Made.State();
+    for (auto vertex = state.GetTriangulation().finite_vertices_begin();
+         vertex != state.GetTriangulation().finite_vertices_end();
          ++vertex)
     {
       if (vertex->info().kind == kind)
       {
-        points.push_back(m_State.PointOf(vertex));
+        points.push_back(state.PointOf(vertex));
       }
     }
     return points;
@@ -704,15 +714,20 @@ public:
   const dr::RefinementStatistics &
   Statistics() const
   {
-    return m_Statistics;
+    return m_Made.Statistics();
   }
 
 private:
-  dr::SphereOracle          m_Oracle;
-  dr::RefinementParameters  m_Parameters;
-  dr::detail::MeshState     m_State;
-  dr::RefinementStatistics  m_Statistics;
-  dr::detail::BoxProtection m_Box;
+  static dr::AxisAlignedBox
+  Bounds()
+  {
+    dr::AxisAlignedBox bounds;
+    bounds.lower = { { 0.0, 0.0, 0.0 } };
+    bounds.upper = { { 4.0, 1.0, 1.0 } };
+    return bounds;
+  }
+
+  HandMadeTriangulation<dr::SphereOracle> m_Made;
 };
 
 } // namespace
