@@ -84,11 +84,11 @@ ForEachRangeInParallel(std::size_t count, std::size_t threads, std::size_t minim
 constexpr std::chrono::milliseconds CallingThreadWaitCheckInterval{ 20 };
 
 /** Calls work(index) for every index in [0, count), on up to `threads` threads that each take the next index when
- * they finish one (for pieces of work of very different sizes); the calling thread takes part, index 0 always
- * among its pieces (the first, the largest where the caller sorts them), and calls `onCallingThread()` before each
- * index it takes, and then every CallingThreadWaitCheckInterval until the other
- * threads have ended (a progress report and a check for an abort, which must not run elsewhere: without the
- * checks while it waits, an abort asked for while another thread opened the largest piece was seen only after it).
+ * they finish one (for pieces of work of very different sizes); the calling thread takes part, index 0 always among
+ * its pieces (the first, the largest where the caller sorts them), and calls `onCallingThread()` before each index it
+ * takes, and then every CallingThreadWaitCheckInterval until the other threads have ended (a progress report and a
+ * check for an abort, which must not run elsewhere: without the checks while it waits, an abort asked for while
+ * another thread opened the largest piece was seen only after it).
  * When that or a call of work throws, no index is started any more (an abort inside one piece stops the others'
  * queue too) and the exception is rethrown once every thread has ended. The calls of work must not depend on each
  * other. */
