@@ -240,6 +240,12 @@
 #                                 machine the calling thread, the only one that reports progress and sees an abort, did
 #                                 neither until the others ended; caught by ParallelPieces.TheFirstIndexIsWorkedOnThe-
 #                                 CallingThread within a few of its 600 rounds (run by hand three times)
+#   r2-reads-delta-only           R2 splits from 3 delta whatever zones of finer sampling hold its circumcentre or meet its
+#                                 circumball; every test but RandomizedKnownDefect.OptInManifoldRefinementJumps... passed
+#                                 (run on 2026-12-03), although a thin part inside another label's tetrahedron needs it;
+#                                 now caught by RefinementRules.R2ReadsTheDeltaOfAZoneItsCircumballMeets
+#   r2-delta-at-circumcenter-only R2 reads the delta at its circumcentre only, not that of a zone of reach Circumballs
+#                                 that its circumball meets; caught by the same test
 #   bisection-returns-an-end      the bisection returns the end of its last bracket on a's side, not the bracket's
 #                                 midpoint (within the tolerance still, so every feature vertex stays on the surface);
 #                                 before the new test only RandomizedStability.FirstMeshesOfEveryFamilyChangeByAFewPer-
@@ -514,7 +520,7 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   normal-sums-unoriented box-margin-two-delta box-exit-opposite-face box-e3-skipped grid-skips-last-cell-row
   surfaces-last-label-only vtk-top-unpadded vtk-origin-zero physical-spacing-by-row grid-remove-drops-last
   grid-center-cell-closed-ball large-count-overflow-unchecked
-  relabel-flag-kept-moved-back calling-thread-may-get-none)
+  relabel-flag-kept-moved-back calling-thread-may-get-none r2-reads-delta-only r2-delta-at-circumcenter-only)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -1220,6 +1226,16 @@ apply_mutation() {
       throw std::bad_array_new_length();
     }
 ' ''
+      ;;
+    r2-reads-delta-only)
+      mutate "$tree/src/DelaunayRefinementRules.h" \
+        'const double deltaAtCenter = m_Sizing.DeltaForCircumball(cache.circumcenter, std::sqrt(cache.squaredRadius));' \
+        'const double deltaAtCenter = m_Delta;'
+      ;;
+    r2-delta-at-circumcenter-only)
+      mutate "$tree/src/DelaunayRefinementRules.h" \
+        'const double deltaAtCenter = m_Sizing.DeltaForCircumball(cache.circumcenter, std::sqrt(cache.squaredRadius));' \
+        'const double deltaAtCenter = m_Sizing.LocalDelta(cache.circumcenter);'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2

@@ -128,6 +128,13 @@ public:
     return rules.FindApplicableRule(m_Cell);
   }
 
+  /** A zone of finer sampling, as the refiner makes around a thin part (LocalSampling::AddZone). */
+  void
+  AddZone(const dr::Vector3 & center, double delta, double radius, dr::detail::ZoneReach reach)
+  {
+    m_Sizing.AddZone(center, delta, radius, reach);
+  }
+
 private:
   static constexpr double BoxHalfSide = 50.0;
 
@@ -164,6 +171,47 @@ TEST(RefinementRules, R2SplitsAnIntersectingTetrahedronFromThreeDeltaOnly)
     ASSERT_TRUE(action.has_value());
     EXPECT_EQ(action->rule, Rule::R2);
     EXPECT_NEAR(action->point[2], radius - 0.5, 1e-12);
+  }
+}
+
+/** R2 reads the δ of a zone of finer sampling: the circumradius 2 of the tetrahedron below (circumcentre 1.5 above the
+ * surface, a feature vertex 0.5 below the surface point closest to it, so R1 stays out) is under 3δ but reaches 3 ×
+ * 0.5, the δ of a zone around its circumcentre. A zone of reach ZoneReach::Circumballs counts once it meets the
+ * circumball, although the circumcentre is outside it (LocalSampling::DeltaForCircumball: a part inside another
+ * label's tetrahedron, docs/algorithm.md, "Topology"); a zone that only holds points counts only where it holds the
+ * circumcentre. R2 reading δ alone, or the δ at the circumcentre alone, splits none of these or both. */
+TEST(RefinementRules, R2ReadsTheDeltaOfAZoneItsCircumballMeets)
+{
+  constexpr double  ZoneDelta = 0.5;
+  constexpr double  ZoneRadius = 1.0;
+  const dr::Vector3 circumcenter{ { 0.0, 0.0, 1.5 } };
+  const dr::Vector3 zoneAboveTheCircumcenter{ { 0.0, 0.0, 4.0 } }; // 2.5 from it: within 2 + 1, beyond 1
+  using dr::detail::ZoneReach;
+  {
+    SCOPED_TRACE("a zone holding the circumcentre");
+    HandMadeTetrahedron tetrahedron(1.5, 2.0);
+    tetrahedron.AddZone(circumcenter, ZoneDelta, ZoneRadius, ZoneReach::Points);
+    const std::optional<dr::detail::Action> action = tetrahedron.ApplicableRule();
+    ASSERT_TRUE(action.has_value());
+    EXPECT_EQ(action->rule, Rule::R2);
+    EXPECT_NEAR(dr::Distance(action->point, circumcenter), 0.0, 1e-12);
+  }
+  {
+    SCOPED_TRACE("a zone of reach Circumballs meeting the circumball");
+    HandMadeTetrahedron tetrahedron(1.5, 2.0);
+    tetrahedron.AddZone(zoneAboveTheCircumcenter, ZoneDelta, ZoneRadius, ZoneReach::Circumballs);
+    const std::optional<dr::detail::Action> action = tetrahedron.ApplicableRule();
+    ASSERT_TRUE(action.has_value());
+    EXPECT_EQ(action->rule, Rule::R2);
+    EXPECT_NEAR(dr::Distance(action->point, circumcenter), 0.0, 1e-12);
+  }
+  {
+    SCOPED_TRACE("a zone of reach Points meeting the circumball only");
+    HandMadeTetrahedron tetrahedron(1.5, 2.0);
+    tetrahedron.AddZone(zoneAboveTheCircumcenter, ZoneDelta, ZoneRadius, ZoneReach::Points);
+    const std::optional<dr::detail::Action> action = tetrahedron.ApplicableRule();
+    EXPECT_TRUE(!action || (action->rule != Rule::R2 && action->rule != Rule::R1))
+      << "rule " << static_cast<int>(action->rule);
   }
 }
 
