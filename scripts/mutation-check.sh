@@ -246,6 +246,12 @@
 #                                 now caught by RefinementRules.R2ReadsTheDeltaOfAZoneItsCircumballMeets
 #   r2-delta-at-circumcenter-only R2 reads the delta at its circumcentre only, not that of a zone of reach Circumballs
 #                                 that its circumball meets; caught by the same test
+#   r3-threshold-unshortened      R3 compares a facet's surface ball with its shortest edge itself, not shortened by the
+#                                 margin of the 30 degree checks, so a triangle within the margin stays or goes by
+#                                 rounding; the fingerprints and the regression test of the case that found it
+#                                 (RandomizedRegression.RThreeSplitsATriangleOfExactlyThirtyDegrees, whose mesh has
+#                                 changed since) passed (run on 2026-12-03); now caught by
+#                                 RefinementRules.R3SplitsAFacetWithinTheMarginOfThirtyDegrees
 #   bisection-returns-an-end      the bisection returns the end of its last bracket on a's side, not the bracket's
 #                                 midpoint (within the tolerance still, so every feature vertex stays on the surface);
 #                                 before the new test only RandomizedStability.FirstMeshesOfEveryFamilyChangeByAFewPer-
@@ -520,7 +526,8 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   normal-sums-unoriented box-margin-two-delta box-exit-opposite-face box-e3-skipped grid-skips-last-cell-row
   surfaces-last-label-only vtk-top-unpadded vtk-origin-zero physical-spacing-by-row grid-remove-drops-last
   grid-center-cell-closed-ball large-count-overflow-unchecked
-  relabel-flag-kept-moved-back calling-thread-may-get-none r2-reads-delta-only r2-delta-at-circumcenter-only)
+  relabel-flag-kept-moved-back calling-thread-may-get-none r2-reads-delta-only r2-delta-at-circumcenter-only
+  r3-threshold-unshortened)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -1236,6 +1243,10 @@ apply_mutation() {
       mutate "$tree/src/DelaunayRefinementRules.h" \
         'const double deltaAtCenter = m_Sizing.DeltaForCircumball(cache.circumcenter, std::sqrt(cache.squaredRadius));' \
         'const double deltaAtCenter = m_Sizing.LocalDelta(cache.circumcenter);'
+      ;;
+    r3-threshold-unshortened)
+      mutate "$tree/src/DelaunayRefinementRules.h" \
+        'ShortestEdgeFactorForPlanarAngleMargin * ShortestEdgeLength(a, b, c));' 'ShortestEdgeLength(a, b, c));'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2

@@ -128,6 +128,15 @@ public:
     return rules.FindApplicableRule(m_Cell);
   }
 
+  /** R3's threshold for a restricted facet with corners `a`, `b`, `c` whose surface ball is centred at `center`. */
+  double
+  SurfaceBallThreshold(const dr::Vector3 & center, const dr::Vector3 & a, const dr::Vector3 & b,
+                       const dr::Vector3 & c) const
+  {
+    const dr::detail::RefinementRules rules(m_Oracle, m_Parameters, m_State, m_Sizing, m_Box);
+    return rules.SurfaceBallThreshold(center, a, b, c);
+  }
+
   /** A zone of finer sampling, as the refiner makes around a thin part (LocalSampling::AddZone). */
   void
   AddZone(const dr::Vector3 & center, double delta, double radius, dr::detail::ZoneReach reach)
@@ -212,6 +221,39 @@ TEST(RefinementRules, R2ReadsTheDeltaOfAZoneItsCircumballMeets)
     const std::optional<dr::detail::Action> action = tetrahedron.ApplicableRule();
     EXPECT_TRUE(!action || (action->rule != Rule::R2 && action->rule != Rule::R1))
       << "rule " << static_cast<int>(action->rule);
+  }
+}
+
+/** R3 splits a restricted facet whose smallest angle is within the margin of the 30° bound's checks
+ * (PlanarAngleBoundMarginDegrees), since its threshold (the facet's shortest edge where that is below δ) is shortened
+ * by ShortestEdgeFactorForPlanarAngleMargin; a facet clearly above 30° stays. An isosceles triangle of apex angle θ has
+ * circumradius R = shortest edge / (2 sin θ), and its surface ball centred at its circumcentre has radius R: at θ =
+ * 30° + half the margin R falls short of the shortest edge by 1.5e-11 of it, so a threshold of the shortest edge itself
+ * would keep the triangle, which every check of the bound then rejects (the voxel lattice makes such ties: the
+ * randomized ManyLabels 5045684 once kept one of 29.99999999999974°). */
+TEST(RefinementRules, R3SplitsAFacetWithinTheMarginOfThirtyDegrees)
+{
+  const HandMadeTetrahedron tetrahedron(1.5, 2.0); // any: the threshold reads the sizing only
+  const auto                ballOfTriangleWithApexAngle = [&](double apexDegrees) {
+    constexpr double  Pi = 3.14159265358979323846;
+    constexpr double  Leg = 0.1; // every edge below δ = 1, so the shortest edge sets the threshold
+    const double      half = 0.5 * apexDegrees * Pi / 180.0;
+    const dr::Vector3 a{ { 0.0, 0.0, 0.0 } };
+    const dr::Vector3 b{ { Leg * std::cos(half), Leg * std::sin(half), 0.0 } };
+    const dr::Vector3 c{ { Leg * std::cos(half), -Leg * std::sin(half), 0.0 } };
+    // The circumcentre lies on the axis of symmetry, R from a: R = Leg / (2 cos(θ / 2)).
+    const double      radius = Leg / (2.0 * std::cos(half));
+    const dr::Vector3 center{ { radius, 0.0, 0.0 } };
+    EXPECT_NEAR(dr::Distance(center, b), radius, 1e-15);
+    return std::make_pair(radius, tetrahedron.SurfaceBallThreshold(center, a, b, c));
+  };
+  {
+    const auto [radius, threshold] = ballOfTriangleWithApexAngle(30.0 + 0.5 * dr::PlanarAngleBoundMarginDegrees);
+    EXPECT_GE(radius, threshold) << "R3 keeps a facet of 30° + half the margin";
+  }
+  {
+    const auto [radius, threshold] = ballOfTriangleWithApexAngle(30.0 + 1e-6);
+    EXPECT_LT(radius, threshold) << "R3 splits a facet of 30.000001°";
   }
 }
 
