@@ -252,6 +252,9 @@
 #                                 (RandomizedRegression.RThreeSplitsATriangleOfExactlyThirtyDegrees, whose mesh has
 #                                 changed since) passed (run on 2026-12-03); now caught by
 #                                 RefinementRules.R3SplitsAFacetWithinTheMarginOfThirtyDegrees
+#   r1-reads-delta-only           R1 reads delta, not the delta of a zone of finer sampling around its surface point;
+#   r3-reads-delta-only           R3's threshold reads delta, not the delta of a zone around its surface ball's centre;
+#                                 both caught by RefinementRules.ROneAndRThreeReadTheDeltaOfTheZoneTheirPointLiesIn
 #   bisection-returns-an-end      the bisection returns the end of its last bracket on a's side, not the bracket's
 #                                 midpoint (within the tolerance still, so every feature vertex stays on the surface);
 #                                 before the new test only RandomizedStability.FirstMeshesOfEveryFamilyChangeByAFewPer-
@@ -527,7 +530,7 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   surfaces-last-label-only vtk-top-unpadded vtk-origin-zero physical-spacing-by-row grid-remove-drops-last
   grid-center-cell-closed-ball large-count-overflow-unchecked
   relabel-flag-kept-moved-back calling-thread-may-get-none r2-reads-delta-only r2-delta-at-circumcenter-only
-  r3-threshold-unshortened)
+  r3-threshold-unshortened r1-reads-delta-only r3-reads-delta-only)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -1247,6 +1250,16 @@ apply_mutation() {
     r3-threshold-unshortened)
       mutate "$tree/src/DelaunayRefinementRules.h" \
         'ShortestEdgeFactorForPlanarAngleMargin * ShortestEdgeLength(a, b, c));' 'ShortestEdgeLength(a, b, c));'
+      ;;
+    r1-reads-delta-only)
+      mutate "$tree/src/DelaunayRefinementRules.h" \
+        'const double       deltaAtClosest = m_Sizing.LocalDelta(closest.point);' \
+        'const double       deltaAtClosest = m_Delta;'
+      ;;
+    r3-reads-delta-only)
+      mutate "$tree/src/DelaunayRefinementRules.h" \
+        'return std::min(m_Sizing.LocalDelta(center) * (1.0 + LatticeTieMargin),' \
+        'return std::min(m_Delta * (1.0 + LatticeTieMargin),'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2

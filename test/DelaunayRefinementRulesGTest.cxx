@@ -257,6 +257,43 @@ TEST(RefinementRules, R3SplitsAFacetWithinTheMarginOfThirtyDegrees)
   }
 }
 
+/** R1 and R3 read the δ of a zone of finer sampling where their point lies, as R2 does (the zones sample small parts of
+ * the labels finely, docs/algorithm.md, "Local sampling distance"). R1: a feature vertex 0.75 below the surface point
+ * closest to the circumcentre keeps R1 out at δ = 1, not inside a zone of δ 0.5 around that surface point. R3: the
+ * threshold of a facet whose edges are all longer than δ is the local δ at its surface ball's centre, with
+ * LatticeTieMargin, inside a zone and outside it. */
+TEST(RefinementRules, ROneAndRThreeReadTheDeltaOfTheZoneTheirPointLiesIn)
+{
+  constexpr double  ZoneDelta = 0.5;
+  const dr::Vector3 surfacePoint{ { 0.0, 0.0, 0.0 } };
+  {
+    SCOPED_TRACE("R1 without a zone");
+    const HandMadeTetrahedron               tetrahedron(1.0, 1.75);
+    const std::optional<dr::detail::Action> action = tetrahedron.ApplicableRule();
+    EXPECT_TRUE(!action || action->rule != Rule::R1) << "R1 at a surface point 0.75 from a feature vertex";
+  }
+  {
+    SCOPED_TRACE("R1 in a zone of delta 0.5");
+    HandMadeTetrahedron tetrahedron(1.0, 1.75);
+    tetrahedron.AddZone(surfacePoint, ZoneDelta, 0.5, dr::detail::ZoneReach::Points);
+    const std::optional<dr::detail::Action> action = tetrahedron.ApplicableRule();
+    ASSERT_TRUE(action.has_value());
+    EXPECT_EQ(action->rule, Rule::R1);
+    EXPECT_NEAR(dr::Norm(action->point), 0.0, 1e-12) << "the surface point closest to the circumcentre";
+    EXPECT_EQ(action->localDelta, ZoneDelta);
+  }
+  // An equilateral facet of side 3, longer than δ: the δ term of the threshold binds.
+  const dr::Vector3   a{ { 0.0, 0.0, 0.0 } };
+  const dr::Vector3   b{ { 3.0, 0.0, 0.0 } };
+  const dr::Vector3   c{ { 1.5, 1.5 * std::sqrt(3.0), 0.0 } };
+  const dr::Vector3   inside{ { 10.0, 10.0, 10.0 } };
+  const dr::Vector3   outside{ { 10.0, 10.0, 12.0 } };
+  HandMadeTetrahedron tetrahedron(1.5, 2.0);
+  tetrahedron.AddZone(inside, ZoneDelta, 1.0, dr::detail::ZoneReach::Points);
+  EXPECT_DOUBLE_EQ(tetrahedron.SurfaceBallThreshold(inside, a, b, c), ZoneDelta * (1.0 + dr::LatticeTieMargin));
+  EXPECT_DOUBLE_EQ(tetrahedron.SurfaceBallThreshold(outside, a, b, c), Delta * (1.0 + dr::LatticeTieMargin));
+}
+
 /** R1 inserts the surface point closest to an intersecting tetrahedron's circumcentre unless a feature vertex lies
  * within δ of it, and a feature vertex δ away counts as within, with a margin of LatticeTieMargin (docs/algorithm.md,
  * "Rules": the lattice puts surface points exactly δ apart, and Lemma 2 keeps feature vertices at least δ apart): a
