@@ -789,6 +789,14 @@ TEST(AnalyticOracles, MinimumLocalFeatureSizeIsTheDistanceToTheMedialAxis)
   // A ball in a shell: the inner ball's centre, and the sphere halfway through the shell.
   EXPECT_DOUBLE_EQ(NestedSpheresOracle(origin, 5.0, 10.0).MinimumLocalFeatureSize(), 2.5);
   EXPECT_DOUBLE_EQ(NestedSpheresOracle(origin, 2.0, 10.0).MinimumLocalFeatureSize(), 2.0);
+  // The genus-2 plate of thickness t: its mid-surface (t from the surface) and the axis of each hole of radius r in
+  // the plate (r - t from the hole's wall, where the wall is nearest). The core tests' plate has r - t = t, which
+  // hid the hole's term (a feature size of min(t, r) passed them).
+  EXPECT_DOUBLE_EQ(Genus2Oracle(origin, 8.0, 7.0, 4.0, 1.0).MinimumLocalFeatureSize(), 1.0);
+  EXPECT_DOUBLE_EQ(Genus2Oracle(origin, 8.0, 7.0, 3.0, 2.0).MinimumLocalFeatureSize(), 1.0);
+  const Genus2Oracle plate(origin, 8.0, 7.0, 3.0, 2.0);
+  EXPECT_EQ(plate.LabelAt({ { 8.0, 0.0, 0.0 } }), BackgroundLabel) << "the hole's axis is outside";
+  EXPECT_NEAR(plate.ClosestSurfacePoint({ { 8.0, 0.0, 0.0 } }).distance, 1.0, 1e-12);
 }
 
 /** R3's surface-ball centres and R4′'s moved surface corners come from BisectLabelChange (the default
@@ -810,6 +818,12 @@ TEST(AnalyticOracles, BisectionReturnsTheMidpointOfTheLastBracketWithinTheTolera
   EXPECT_LE(std::abs(BisectLabelChange(ball, centre, outside, 0.1)[0] - 0.7), 0.05);
   // Tolerance 0 still ends (the steps are bounded), at the sphere to rounding.
   EXPECT_NEAR(BisectLabelChange(ball, centre, outside, 0.0)[0], 0.7, 1e-15);
+  // ... from any bracket: one 10^10 long needs about 34 halvings to come down to 1 and 53 more to rounding, and the
+  // bound on the steps (200) must not stop it before (50 steps would leave it 10^10 / 2^50, about 1e-5, long).
+  EXPECT_NEAR(BisectLabelChange(ball, centre, Vector3{ { 1e10, 0.0, 0.0 } }, 0.0)[0], 0.7, 1e-15);
+  // A bracket exactly as long as the tolerance is no longer than it: the bisection stops there. Tolerance 0.125, by
+  // hand: ... -> [0.5, 0.75] -> [0.625, 0.75], 0.125 long: its midpoint 0.6875 (one more step would give 0.71875).
+  EXPECT_EQ(BisectLabelChange(ball, centre, outside, 0.125), (Vector3{ { 0.6875, 0.0, 0.0 } }));
   // The oracle's own surface crossing is the same bisection down to its SurfaceTolerance().
   EXPECT_LE(std::abs(ball.SurfaceCrossing(centre, outside)[0] - 0.7), 0.5 * ball.SurfaceTolerance());
 }
