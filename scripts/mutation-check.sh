@@ -312,6 +312,45 @@
 #   large-count-overflow-unchecked the large-buffer allocator does not check that a count's bytes fit a size_t, so
 #                                 2^61 + 2^18 doubles get a 2 MiB buffer; no other test allocates such counts; caught by
 #                                 LargeBuffers.ACountWhoseBytesDoNotFitIsRefused
+#   Bugs in the flat caps, the manifold repair, the places it lists and the mesh state (added 2026-12-03, third stop),
+#   each applied alone and run by hand against the tests that could see it (the fingerprints, the topology, k-means,
+#   brain-mask, sliver, flat-tetrahedron, randomized regression and randomized family tests): each passed them all,
+#   and is now caught by the tests on triangulations made by hand named after it:
+#   flat-cap-takes-larger-label   a flat tetrahedron beyond two facets of each of two labels takes the larger, not the
+#                                 smaller; FlatCaps.AFlatTetrahedronBetweenTwoLabelsTakesTheSmaller
+#   flat-cap-checks-own-facets-only a flat cap checks the 30-degree and R1 bounds of the facets inside its own tissue
+#                                 only, not of those against a third label that become boundary too; FlatCaps.AFlatCap-
+#                                 KeepsItsLabelWhenAFacetItWouldPutOnABoundaryIsNarrowOrWide
+#   cap-facets-against-two-labels a tetrahedron whose two boundary facets face two different labels counts as a cap
+#                                 (of the first); FlatCaps.ACapHasExactlyTwoBoundaryFacetsAgainstOneLabel
+#   sliver-peeled-onto-tissue     a sliver that caps its tissue against another tissue is relabelled to it, where it
+#                                 stays a sliver, not only one capping it against the background; FlatCaps.ASliverIs-
+#                                 PeeledOffTheBackgroundOnly
+#   repairable-share-exclusive    the opt-in halving refuses places at exactly 5 % of the boundary's vertices ("above"
+#                                 is pervasive); ManifoldRepair.TheRepairableShareCountsVerticesUpToFivePercent
+#   repairable-share-counts-places the share counts (vertex, label) places, not vertices; the same test
+#   places-point-per-label        the places' list of points gets a point per (vertex, label) place, not per vertex
+#                                 (NonManifoldPlaces.h), so the share above counts places; the same test
+#   halving-below-finest          the opt-in halving halves below the finest delta (minimumSurfaceSamplingDistance);
+#                                 ManifoldRepair.HalvingStopsAtTheFinestDeltaAndHalvesEachPlaceOncePerRound
+#   halving-twice-in-a-round      a place inside the zone just made for a nearby place in the same round is halved from
+#                                 that zone's delta, so twice in one round; the same test
+#   move-counted-as-deletion      a move of a vertex (R4') is counted as a deletion in the statistics; MeshState.AMove-
+#                                 IsNoDeletionAndReportsTheCellsAtTheMovedVertex
+#   genus2-lfs-ignores-holes      the genus-2 plate's feature size ignores the holes' axes (min(t, r), not min(t, r - t));
+#                                 the core tests' plate has r - t = t; AnalyticOracles.MinimumLocalFeatureSizeIsThe-
+#                                 DistanceToTheMedialAxis (a plate with r - t < t)
+#   bisection-fifty-steps         the bisection stops after 50 steps, not 200: a bracket of 10^10 is then left 1e-5 long;
+#                                 AnalyticOracles.BisectionReturnsTheMidpointOfTheLastBracketWithinTheTolerance
+#   bisection-past-the-tolerance  the bisection halves a bracket exactly as long as the tolerance once more (a tie only
+#                                 dyadic tolerances meet); the same test
+#   Run the same day and caught before (by the fingerprints, VertexCap or the randomized regressions), so not listed:
+#   the feature vertex's deletion radius halved, the box rules' ball closed for box-face vertices, feature vertices
+#   kept where the labels changed, dead cells reported after a move, one vertex over the cap, the places found by the
+#   walk or the link test no longer kept due, the walk after a change keeping the last ball's seen cells, the flat
+#   caps' R1 bound dropped, a cap allowed three boundary facets, the torus's box as tall as wide, the analytic shapes'
+#   surface tolerance 1e-6; and the new tests catch each of them but the torus's box and the tolerance. Left out as
+#   equivalent for the meshes: WithNeighbors listing a cell twice (the queue skips the second entry as dead).
 # Environment: DELAUNAY_MUTATION_DIR (default: next to the checkout, <checkout>-mutations) holds the copies and builds;
 # DELAUNAY_MUTATION_JOBS (default nproc) is the build and CTest parallelism; DELAUNAY_MUTATION_CTEST_ARGS adds
 # arguments to ctest (e.g. "-R Randomized" to try one part of the suite). Run it after scripts/setup.sh.
@@ -530,7 +569,10 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   surfaces-last-label-only vtk-top-unpadded vtk-origin-zero physical-spacing-by-row grid-remove-drops-last
   grid-center-cell-closed-ball large-count-overflow-unchecked
   relabel-flag-kept-moved-back calling-thread-may-get-none r2-reads-delta-only r2-delta-at-circumcenter-only
-  r3-threshold-unshortened r1-reads-delta-only r3-reads-delta-only)
+  r3-threshold-unshortened r1-reads-delta-only r3-reads-delta-only flat-cap-takes-larger-label
+  flat-cap-checks-own-facets-only cap-facets-against-two-labels sliver-peeled-onto-tissue repairable-share-exclusive
+  repairable-share-counts-places halving-below-finest halving-twice-in-a-round places-point-per-label
+  move-counted-as-deletion genus2-lfs-ignores-holes bisection-fifty-steps bisection-past-the-tolerance)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -1260,6 +1302,80 @@ apply_mutation() {
       mutate "$tree/src/DelaunayRefinementRules.h" \
         'return std::min(m_Sizing.LocalDelta(center) * (1.0 + LatticeTieMargin),' \
         'return std::min(m_Delta * (1.0 + LatticeTieMargin),'
+      ;;
+    flat-cap-takes-larger-label)
+      mutate "$tree/src/DelaunayRefinementFlatCaps.h" \
+        '&& (!cap || other < *cap))' \
+        '&& (!cap || other > *cap))'
+      ;;
+    flat-cap-checks-own-facets-only)
+      mutate "$tree/src/DelaunayRefinementFlatCaps.h" \
+        '      if (beyond[facet] != *cap)' \
+        '      if (beyond[facet] == label)'
+      ;;
+    cap-facets-against-two-labels)
+      mutate "$tree/src/DelaunayRefinementFlatCaps.h" \
+        '    if (boundaryFacets.size() != 2 ||
+        state.LabelBeyondFacet(cell, boundaryFacets[0]) != state.LabelBeyondFacet(cell, boundaryFacets[1]) ||' \
+        '    if (boundaryFacets.size() != 2 ||'
+      ;;
+    sliver-peeled-onto-tissue)
+      mutate "$tree/src/DelaunayRefinementFlatCaps.h" \
+        'if (label && (isFlat || *label == BackgroundLabel))' \
+        'if (label)'
+      ;;
+    repairable-share-exclusive)
+      mutate "$tree/src/DelaunayRefinementManifoldRepair.h" \
+        'return static_cast<double>(places.points.size()) <=' \
+        'return static_cast<double>(places.points.size()) <'
+      ;;
+    repairable-share-counts-places)
+      mutate "$tree/src/DelaunayRefinementManifoldRepair.h" \
+        'return static_cast<double>(places.points.size()) <=' \
+        'return static_cast<double>(places.places.size()) <='
+      ;;
+    halving-below-finest)
+      mutate "$tree/src/DelaunayRefinementManifoldRepair.h" \
+        'halvings.emplace_back(point, std::max(0.5 * localDelta, m_FinestDelta));' \
+        'halvings.emplace_back(point, 0.5 * localDelta);'
+      ;;
+    halving-twice-in-a-round)
+      mutate "$tree/src/DelaunayRefinementManifoldRepair.h" \
+        '        halvings.emplace_back(point, std::max(0.5 * localDelta, m_FinestDelta));' \
+        '        halvings.emplace_back(point, std::max(0.5 * localDelta, m_FinestDelta));
+        m_Sizing.AddZone(point, halvings.back().second);'
+      ;;
+    places-point-per-label)
+      mutate "$tree/src/DelaunayRefinementNonManifoldPlaces.h" \
+        '      points.push_back(point);
+      firstPlace.push_back(places.size());
+    }
+    places.push_back({ point, label });' \
+        '      firstPlace.push_back(places.size());
+    }
+    points.push_back(point);
+    places.push_back({ point, label });'
+      ;;
+    move-counted-as-deletion)
+      mutate "$tree/src/DelaunayRefinementMeshState.h" \
+        '    RemoveVertex(vertex);
+    --m_DeletedVertices;' \
+        '    RemoveVertex(vertex);'
+      ;;
+    genus2-lfs-ignores-holes)
+      mutate "$tree/src/DelaunayRefinementAnalyticOracles.cxx" \
+        'return std::min(m_Thickness, m_HoleRadius - m_Thickness);' \
+        'return std::min(m_Thickness, m_HoleRadius);'
+      ;;
+    bisection-fifty-steps)
+      mutate "$tree/src/DelaunayRefinementOracle.cxx" \
+        'step < 200 &&' \
+        'step < 50 &&'
+      ;;
+    bisection-past-the-tolerance)
+      mutate "$tree/src/DelaunayRefinementOracle.cxx" \
+        'SquaredNorm(b - a) > tolerance * tolerance' \
+        'SquaredNorm(b - a) >= tolerance * tolerance'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2
