@@ -253,8 +253,12 @@
 #                                 changed since) passed (run on 2026-12-03); now caught by
 #                                 RefinementRules.R3SplitsAFacetWithinTheMarginOfThirtyDegrees
 #   r1-reads-delta-only           R1 reads delta, not the delta of a zone of finer sampling around its surface point;
+#                                 before the new test only RandomizedKnownDefect.OptInManifoldRefinementJumps... failed
+#                                 (run on 2026-12-03), a test that asserts a defect of the opt-in halving
 #   r3-reads-delta-only           R3's threshold reads delta, not the delta of a zone around its surface ball's centre;
-#                                 both caught by RefinementRules.ROneAndRThreeReadTheDeltaOfTheZoneTheirPointLiesIn
+#                                 before, the same test and DelaunayImageToMeshCommandLine.TopologyOptions failed (the
+#                                 opt-in halving); both now caught by
+#                                 RefinementRules.ROneAndRThreeReadTheDeltaOfTheZoneTheirPointLiesIn
 #   bisection-returns-an-end      the bisection returns the end of its last bracket on a's side, not the bracket's
 #                                 midpoint (within the tolerance still, so every feature vertex stays on the surface);
 #                                 before the new test only RandomizedStability.FirstMeshesOfEveryFamilyChangeByAFewPer-
