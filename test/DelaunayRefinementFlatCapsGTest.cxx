@@ -32,6 +32,7 @@
 
 #include "DelaunayRefinementAnalyticOracles.h"
 #include "DelaunayRefinementFlatCaps.h"
+#include "DelaunayRefinementHandMadeCube.h"
 #include "DelaunayRefinementMeshState.h"
 #include "DelaunayRefinementSizing.h"
 
@@ -61,16 +62,7 @@ public:
     , m_State(m_Oracle, m_Parameters)
     , m_Sizing(delta)
   {
-    m_State.SetNewCellsHook([](const std::vector<CellHandle> &) {});
-    std::array<dr::Vector3, 8> corners{};
-    for (int corner = 0; corner < 8; ++corner)
-    {
-      for (int axis = 0; axis < 3; ++axis)
-      {
-        corners[corner][axis] = (corner >> axis) & 1 ? 10.0 : -10.0;
-      }
-    }
-    m_State.InsertBoxCorners(corners);
+    StartWithCubeCorners(m_State, 10.0);
     for (int k = 0; k < 4; ++k)
     {
       const double angle = degrees[k] * 3.14159265358979323846 / 180.0;

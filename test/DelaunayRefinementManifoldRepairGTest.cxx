@@ -24,6 +24,7 @@
 // δ or a cell missed by the walk after a change shows, if at all, as a few tetrahedra more or less.
 
 #include "DelaunayRefinementAnalyticOracles.h"
+#include "DelaunayRefinementHandMadeCube.h"
 #include "DelaunayRefinementManifoldRepair.h"
 
 #include <gtest/gtest.h>
@@ -95,16 +96,7 @@ public:
     , m_Repair(m_State, m_Extraction, m_Sizing, m_Parameters)
   {
     m_Oracle.labelOfCube = labelOfCube;
-    m_State.SetNewCellsHook([](const std::vector<CellHandle> &) {});
-    std::array<dr::Vector3, 8> corners{};
-    for (int corner = 0; corner < 8; ++corner)
-    {
-      for (int axis = 0; axis < 3; ++axis)
-      {
-        corners[corner][axis] = (corner >> axis) & 1 ? 10.0 : -10.0;
-      }
-    }
-    m_State.InsertBoxCorners(corners);
+    StartWithCubeCorners(m_State, 10.0);
     for (int x = -1; x <= 1; ++x)
     {
       for (int y = -1; y <= 1; ++y)

@@ -22,6 +22,7 @@
 // short, or one vertex more than the cap, changes a mesh no guarantee check looks at.
 
 #include "DelaunayRefinementAnalyticOracles.h"
+#include "DelaunayRefinementHandMadeCube.h"
 #include "DelaunayRefinementMeshState.h"
 
 #include <gtest/gtest.h>
@@ -47,16 +48,7 @@ public:
     , m_Parameters(ParametersOf(delta, cap))
     , m_State(m_Oracle, m_Parameters)
   {
-    m_State.SetNewCellsHook([](const std::vector<CellHandle> &) {});
-    std::array<dr::Vector3, 8> corners{};
-    for (int corner = 0; corner < 8; ++corner)
-    {
-      for (int axis = 0; axis < 3; ++axis)
-      {
-        corners[corner][axis] = (corner >> axis) & 1 ? 10.0 : -10.0;
-      }
-    }
-    m_State.InsertBoxCorners(corners);
+    StartWithCubeCorners(m_State, 10.0);
   }
 
   dr::detail::MeshState &

@@ -26,6 +26,7 @@
 
 #include "DelaunayRefinementAnalyticOracles.h"
 #include "DelaunayRefinementBoxProtection.h"
+#include "DelaunayRefinementHandMadeCube.h"
 #include "DelaunayRefinementMeshState.h"
 #include "DelaunayRefinementRules.h"
 #include "DelaunayRefinementSizing.h"
@@ -75,18 +76,9 @@ public:
     , m_State(m_Oracle, m_Parameters)
     , m_Sizing(Delta)
   {
-    m_State.SetNewCellsHook([](const std::vector<CellHandle> &) {});
-    std::array<dr::Vector3, 8> corners{};
-    for (int corner = 0; corner < 8; ++corner)
-    {
-      for (int axis = 0; axis < 3; ++axis)
-      {
-        corners[corner][axis] = (corner >> axis) & 1 ? BoxHalfSide : -BoxHalfSide;
-      }
-    }
-    m_Box.lower = corners[0];
-    m_Box.upper = corners[7];
-    m_State.InsertBoxCorners(corners);
+    StartWithCubeCorners(m_State, BoxHalfSide);
+    m_Box.lower = { { -BoxHalfSide, -BoxHalfSide, -BoxHalfSide } };
+    m_Box.upper = { { BoxHalfSide, BoxHalfSide, BoxHalfSide } };
     std::vector<dr::detail::VertexHandle> vertices;
     const auto                            insert = [&](const dr::Vector3 & point, dr::VertexKind kind) {
       const std::optional<dr::detail::VertexHandle> vertex = m_State.InsertVertex(point, kind, CellHandle());
