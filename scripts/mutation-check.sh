@@ -259,6 +259,11 @@
 #                                 before, the same test and DelaunayImageToMeshCommandLine.TopologyOptions failed (the
 #                                 opt-in halving); both now caught by
 #                                 RefinementRules.ROneAndRThreeReadTheDeltaOfTheZoneTheirPointLiesIn
+#   split-ignores-swallowed-label R4′'s acceptance test takes a boundary as unchanged when only the new tetrahedra keep the
+#                                 sliver's label, although the split point's conflict region swallows a tetrahedron of
+#                                 another label: the triangles it puts on a boundary go unchecked; all 533 tests passed
+#                                 (run on 2026-12-03); now caught by
+#                                 SliverSplit.APointWhoseRegionSwallowsAnotherLabelChangesTheBoundary
 #   bisection-returns-an-end      the bisection returns the end of its last bracket on a's side, not the bracket's
 #                                 midpoint (within the tolerance still, so every feature vertex stays on the surface);
 #                                 before the new test only RandomizedStability.FirstMeshesOfEveryFamilyChangeByAFewPer-
@@ -573,7 +578,8 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   surfaces-last-label-only vtk-top-unpadded vtk-origin-zero physical-spacing-by-row grid-remove-drops-last
   grid-center-cell-closed-ball large-count-overflow-unchecked
   relabel-flag-kept-moved-back calling-thread-may-get-none r2-reads-delta-only r2-delta-at-circumcenter-only
-  r3-threshold-unshortened r1-reads-delta-only r3-reads-delta-only flat-cap-takes-larger-label
+  r3-threshold-unshortened r1-reads-delta-only r3-reads-delta-only split-ignores-swallowed-label
+  flat-cap-takes-larger-label
   flat-cap-checks-own-facets-only cap-facets-against-two-labels sliver-peeled-onto-tissue repairable-share-exclusive
   repairable-share-counts-places halving-below-finest halving-twice-in-a-round places-point-per-label
   move-counted-as-deletion genus2-lfs-ignores-holes bisection-fifty-steps bisection-past-the-tolerance)
@@ -1296,6 +1302,10 @@ apply_mutation() {
     r3-threshold-unshortened)
       mutate "$tree/src/DelaunayRefinementRules.h" \
         'ShortestEdgeFactorForPlanarAngleMargin * ShortestEdgeLength(a, b, c));' 'ShortestEdgeLength(a, b, c));'
+      ;;
+    split-ignores-swallowed-label)
+      mutate "$tree/src/DelaunayRefinementSliverSplit.h" '    return ReplacesAnotherLabel(sliverLabel) ||
+           std::any_of(' '    return std::any_of('
       ;;
     r1-reads-delta-only)
       mutate "$tree/src/DelaunayRefinementRules.h" \

@@ -31,6 +31,7 @@
 #include "DelaunayRefinementRules.h"
 #include "DelaunayRefinementSizing.h"
 #include "DelaunayRefinementSliverPerturbation.h"
+#include "DelaunayRefinementSliverSplit.h"
 
 #include <gtest/gtest.h>
 
@@ -933,4 +934,39 @@ TEST(BoxRules, E3SplitsTheEdgeAFacesCentreEncroaches)
   EXPECT_NE(box.HasVertexAt(dr::VertexKind::BoxEdge, { { 2.0, 2.5, -1.5 } }),
             box.HasVertexAt(dr::VertexKind::BoxEdge, { { 2.0, 2.5, 2.5 } }))
     << "one of the two midpoints";
+}
+
+/** R4′'s acceptance test counts a boundary as changed when the split point's conflict region swallows a tetrahedron of
+ * another label, even where every new tetrahedron takes the sliver's label (SliverSplit::ChangesBoundary): the facets
+ * between the swallowed region and that label's cells beyond it become boundary triangles, which must then pass the
+ * test for free vertices and 30°. Here a sliver of label 1 (four free vertices on the unit circle, one raised by 0.05)
+ * lies among cells all given label 2 by hand, while the oracle says 1 everywhere near it (a ball of radius 1000): each
+ * candidate point's conflict region holds a cell of label 2 (the one it lies in, or beyond the facet it lies on), whose
+ * facets with label 2 beyond then become boundary triangles, so no candidate leaves the boundary as it was. Found by
+ * a deliberate bug that looked at the new tetrahedra's labels only: all 533 tests passed. */
+TEST(SliverSplit, APointWhoseRegionSwallowsAnotherLabelChangesTheBoundary)
+{
+  const std::array<dr::Vector3, 4> sliver{
+    { { { 1.0, 0.0, 0.0 } }, { { 0.0, 1.0, 0.0 } }, { { -1.0, 0.0, 0.0 } }, { { 0.0, -1.0, 0.05 } } }
+  };
+  std::vector<dr::Vector3> freePoints(sliver.begin(), sliver.end());
+  freePoints.push_back({ { 0.0, 0.0, 1.5 } });
+  freePoints.push_back({ { 0.0, 0.0, -1.5 } });
+  const HandMadeTriangulation<dr::SphereOracle> made(dr::SphereOracle(dr::Vector3{ { 0.0, 0.0, 0.0 } }, 1000.0),
+                                                     PaperParameters(0.5),
+                                                     { { { -2.0, -2.0, -2.0 } }, { { 2.0, 2.0, 2.0 } } },
+                                                     {},
+                                                     freePoints);
+  const CellHandle                              cell = CellWithCorners(made.State(), sliver);
+  ASSERT_NE(cell, CellHandle()) << "the four points make no cell";
+  const dr::detail::Triangulation & triangulation = made.State().GetTriangulation();
+  for (auto other = triangulation.finite_cells_begin(); other != triangulation.finite_cells_end(); ++other)
+  {
+    other->cache.label = 2;
+  }
+  cell->cache.label = 1;
+  const dr::detail::SliverSplit        split(made.Oracle(), made.State(), made.BoxRules(), made.Rules(), 2.0, 15.0);
+  const dr::detail::SliverSplit::Split chosen = split.Choose(cell, cell->cache.circumcenter, cell->cache.squaredRadius);
+  EXPECT_TRUE(chosen.changesBoundary) << "accepted " << chosen.accepted << " at " << chosen.point[0] << ", "
+                                      << chosen.point[1] << ", " << chosen.point[2];
 }
