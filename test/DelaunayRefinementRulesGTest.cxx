@@ -16,13 +16,15 @@
  *
  *=========================================================================*/
 
-// The rules R1 and R2 (src/DelaunayRefinementRules.h, docs/algorithm.md, "Rules") asked of one tetrahedron made by
-// hand: four points whose circumsphere is known, inside a box far larger than it (so that the four make a cell of the
-// Delaunay triangulation), near the top of a ball of radius 100 (the surface z = 0 there, to 1e-2 over the
-// tetrahedron). The whole refinement would hide which rule fired: a rule that splits too early or too late changes
-// the mesh, not a guarantee the meshes are checked for. R4′'s move of a corner of a tetrahedron flat to rounding
-// (src/DelaunayRefinementSliverPerturbation.h) is asked of one made by hand on the same surface, for the same reason,
-// and its move of a sliver's corner along the surface of one made by hand on the rim of the genus-2 plate.
+// The rules R1 and R2 (src/DelaunayRefinementRules.h, docs/algorithm.md, "Rules"), with and without zones of finer
+// sampling, and R3's threshold, asked of one tetrahedron made by hand: four points whose circumsphere is known, inside
+// a box far larger than it (so that the four make a cell of the Delaunay triangulation), near the top of a ball of
+// radius 100 (the surface z = 0 there, to 1e-2 over the tetrahedron). The whole refinement would hide which rule fired:
+// a rule that splits too early or too late changes the mesh, not a guarantee the meshes are checked for. R4′'s move of
+// a corner of a tetrahedron flat to rounding (src/DelaunayRefinementSliverPerturbation.h) is asked of one made by hand
+// on the same surface, for the same reason, and its move of a sliver's corner along the surface of one made by hand on
+// the rim of the genus-2 plate; R4′'s choice of a split point (src/DelaunayRefinementSliverSplit.h) of a sliver among
+// cells labelled by hand.
 
 #include "DelaunayRefinementAnalyticOracles.h"
 #include "DelaunayRefinementBoxProtection.h"
