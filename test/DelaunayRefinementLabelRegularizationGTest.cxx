@@ -512,6 +512,57 @@ TEST(LabelRegularization, AbortLeavesTheLabelsAsTheyWere)
   EXPECT_EQ(labels, grid.labels);
 }
 
+/** A block of speckle removed whole, whose inner voxels are far from every survivor. The grid is 30 voxels of 1 mm
+ * a side, all label 1 but for a block of 20 voxels a side in its middle (voxels 5 to 24 along each axis), where each
+ * voxel takes label 2, 3 or 4 at random. At a radius of 1.7 mm the erosion's reach is 2.2 mm: a speckle voxel
+ * survives its label's erosion only when all 32 voxels within 2.2 mm of it share its label, which does not happen
+ * here (the test checks that every speckle voxel went). Label 1 keeps every voxel: layers 2 of the shell are 3 mm
+ * from both the outside and the block, so they survive the erosion, and every other voxel of label 1 is within
+ * 2 mm of them, inside the erosion's own reach. So every voxel of the block takes label 1, its only survivor's label.
+ * The block's centre is 10 mm from the nearest survivor (layer 4 or 25), farther than the search around each
+ * removed voxel reaches (the dilation's reach, 2.7 mm, and two voxels): those voxels' nearest survivors come from
+ * the transform over the far voxels' box. A regularisation that left them unassigned would leave speckle in the
+ * middle of label 1. */
+TEST(LabelRegularization, AThickBlockOfSpeckleTakesTheLabelOfSurvivorsBeyondTheSearch)
+{
+  const Size         size{ { 30, 30, 30 } };
+  const Vector3      spacing{ { 1.0, 1.0, 1.0 } };
+  std::vector<Label> labels(size[0] * size[1] * size[2], 1);
+  std::mt19937       random(20261203);
+  std::size_t        speckle = 0;
+  for (std::size_t k = 5; k < 25; ++k)
+  {
+    for (std::size_t j = 5; j < 25; ++j)
+    {
+      for (std::size_t i = 5; i < 25; ++i)
+      {
+        labels[i + size[0] * (j + size[1] * k)] = static_cast<Label>(2 + random() % 3);
+        ++speckle;
+      }
+    }
+  }
+  ASSERT_EQ(speckle, 8000U);
+  const LabelRegularizationReport report = RegularizeLabels(labels.data(), size, spacing, 1.7);
+  EXPECT_EQ(static_cast<std::size_t>(std::count(labels.begin(), labels.end(), Label{ 1 })), labels.size())
+    << "voxels left with another label than 1";
+  EXPECT_EQ(report.changedVoxels, speckle);
+  for (const LabelRegularizationChange & change : report.labels)
+  {
+    if (change.label == 1)
+    {
+      EXPECT_EQ(change.voxelsAdded, speckle);
+      EXPECT_EQ(change.voxelsRemoved, 0U);
+      EXPECT_EQ(change.componentsAfter, 1U);
+    }
+    else
+    {
+      EXPECT_EQ(change.voxelsAfter, 0U) << "label " << change.label;
+      EXPECT_EQ(change.voxelsRemoved, change.voxelsBefore) << "label " << change.label;
+      EXPECT_EQ(change.componentsRemoved, change.componentsBefore) << "label " << change.label;
+    }
+  }
+}
+
 /** Speckle of three labels on a grid with a ball of label 1: every label's opening has work to do, and the speckle's
  * voxels take their nearest survivor's label. */
 std::vector<Label>
