@@ -264,6 +264,9 @@
 #                                 another label: the triangles it puts on a boundary go unchecked; all 533 tests passed
 #                                 (run on 2026-12-03); now caught by
 #                                 SliverSplit.APointWhoseRegionSwallowsAnotherLabelChangesTheBoundary
+#   cli-dimensions-unchecked      the command line meshes a 2-D image (as a slab one voxel thick) and a 4-D image of
+#                                 two time points (its first volume) instead of refusing them; all CommandLine tests
+#                                 passed (2026-12-03); now caught by DelaunayImageToMeshCommandLine.Errors
 #   bisection-returns-an-end      the bisection returns the end of its last bracket on a's side, not the bracket's
 #                                 midpoint (within the tolerance still, so every feature vertex stays on the surface);
 #                                 before the new test only RandomizedStability.FirstMeshesOfEveryFamilyChangeByAFewPer-
@@ -582,7 +585,8 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   flat-cap-takes-larger-label
   flat-cap-checks-own-facets-only cap-facets-against-two-labels sliver-peeled-onto-tissue repairable-share-exclusive
   repairable-share-counts-places halving-below-finest halving-twice-in-a-round places-point-per-label
-  move-counted-as-deletion genus2-lfs-ignores-holes bisection-fifty-steps bisection-past-the-tolerance)
+  move-counted-as-deletion genus2-lfs-ignores-holes bisection-fifty-steps bisection-past-the-tolerance
+  cli-dimensions-unchecked)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -1390,6 +1394,9 @@ apply_mutation() {
       mutate "$tree/src/DelaunayRefinementOracle.cxx" \
         'SquaredNorm(b - a) > tolerance * tolerance' \
         'SquaredNorm(b - a) >= tolerance * tolerance'
+      ;;
+    cli-dimensions-unchecked)
+      mutate "$tree/examples/DelaunayImageToMeshInput.h" '  if (dimensions != 3)' '  if (false)'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2

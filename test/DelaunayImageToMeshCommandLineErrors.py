@@ -47,6 +47,10 @@ def error_cases(image, output):
         file.write("this is text, not an image\n")
     os.makedirs(empty_directory, exist_ok=True)
     sheared = write_sheared_image(output)
+    # A 2-D image read as 3-D would be meshed as a slab one voxel thick, and a 4-D image of two time points as its
+    # first volume alone: both are refused (a 4-D file of one time point is a 3-D image: the Inputs test).
+    flat = write_cube_image(output, "flat.mha", [10, 10])
+    two_time_points = write_cube_image(output, "two-time-points.mha", [10, 10, 10, 2])
     bad_delta = write_config(output, "bad-delta.toml", "delta = -1\n")
     misspelt = write_config(output, "misspelt.toml", "delt = 2\n")
     # The ranges are the refinement core's (ValidateParameters): its message follows the option's name.
@@ -102,6 +106,9 @@ def error_cases(image, output):
         ([beside("labels-int64-beyond.nrrd"), mesh], "The input image holds the value 8589934593 at index"),
         ([beside("labels-vector.nrrd"), mesh], "cannot mesh input '" + beside("labels-vector.nrrd") +
          "': its voxels have 3 components"),
+        ([flat, mesh], "cannot mesh input '" + flat + "': it is a 2-D image, a 3-D image is needed"),
+        ([two_time_points, mesh], "cannot mesh input '" + two_time_points + "': it is a 4-D image, a 3-D image is "
+         "needed"),
         # Distances are measured along the voxel axes: a sheared grid is refused, not meshed wrongly.
         ([sheared, mesh], "meshing failed: The input image's direction (rows) [[1, 0.5, 0], [0, 1, 0], [0, 0, 1]] is "
          "not orthonormal"),
@@ -121,6 +128,27 @@ def write_sheared_image(directory):
                    for z in range(10) for y in range(10) for x in range(10))
     with open(path, "wb") as file:
         file.write(header.encode("ascii") + voxels)
+    return path
+
+
+def write_cube_image(directory, name, sizes):
+    """A MetaImage of the given sizes (2 to 4 axes), label 1 on voxels 2 to 7 of the first three axes, else 0."""
+    path = os.path.join(directory, name)
+    header = (f"ObjectType = Image\nNDims = {len(sizes)}\nBinaryData = True\nBinaryDataByteOrderMSB = False\n"
+              f"DimSize = {' '.join(str(size) for size in sizes)}\nElementType = MET_UCHAR\nElementDataFile = LOCAL\n")
+    count = 1
+    for size in sizes:
+        count *= size
+    voxels = bytearray(count)
+    for index in range(count):
+        coordinates = []
+        rest = index
+        for size in sizes:
+            coordinates.append(rest % size)
+            rest //= size
+        voxels[index] = 1 if all(2 <= c < 8 for c in coordinates[:3]) else 0
+    with open(path, "wb") as file:
+        file.write(header.encode("ascii") + bytes(voxels))
     return path
 
 
