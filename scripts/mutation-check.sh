@@ -356,6 +356,17 @@
 #                                 AnalyticOracles.BisectionReturnsTheMidpointOfTheLastBracketWithinTheTolerance
 #   bisection-past-the-tolerance  the bisection halves a bracket exactly as long as the tolerance once more (a tie only
 #                                 dyadic tolerances meet); the same test
+#   Bugs in R4′'s conflict regions of many points (src/DelaunayRefinementConflictRegions.h, added 2026-12-03, fourth
+#   stop), each of which passed the unit tests, the fingerprints and the core tests (run by hand):
+#   conflict-margin-below-cache-error the band around a cached sphere within which the exact predicate decides is 1e-7
+#                                 of the squared radius, below the 8e-7 by which a cached centre as far off as
+#                                 MeshState allows misjudges a point; the lattice test's exact centres hid it; caught by
+#                                 ConflictRegions.AreCgalsRegionsWhenTheCachedCentresAreAsFarOffAsTheRefinementsMayBe
+#   conflict-find-keeps-last-search Find() does not forget the search before it (its members, masks and exact points)
+#                                 unless Clear() is called; the refinement always calls it (SliverSplit::Choose), and so
+#                                 did the lattice test; caught by ConflictRegions.FindForgetsTheRegionsOfTheSearchBefore
+#   conflict-33-points-accepted   Find() takes 33 points, one more than it has bits (the 33rd shares the first's);
+#                                 caught by ConflictRegions.RefusesMorePointsThanBits
 #   Run the same day and caught before (by the fingerprints, VertexCap or the randomized regressions), so not listed:
 #   the feature vertex's deletion radius halved, the box rules' ball closed for box-face vertices, feature vertices
 #   kept where the labels changed, dead cells reported after a move, one vertex over the cap, the places found by the
@@ -586,7 +597,8 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   flat-cap-checks-own-facets-only cap-facets-against-two-labels sliver-peeled-onto-tissue repairable-share-exclusive
   repairable-share-counts-places halving-below-finest halving-twice-in-a-round places-point-per-label
   move-counted-as-deletion genus2-lfs-ignores-holes bisection-fifty-steps bisection-past-the-tolerance
-  cli-dimensions-unchecked)
+  cli-dimensions-unchecked
+  conflict-margin-below-cache-error conflict-find-keeps-last-search conflict-33-points-accepted)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -1397,6 +1409,22 @@ apply_mutation() {
       ;;
     cli-dimensions-unchecked)
       mutate "$tree/examples/DelaunayImageToMeshInput.h" '  if (dimensions != 3)' '  if (false)'
+      ;;
+    conflict-margin-below-cache-error)
+      mutate "$tree/src/DelaunayRefinementConflictRegions.h" \
+        'static constexpr double SphereMargin = 1e-4;' \
+        'static constexpr double SphereMargin = 1e-7;'
+      ;;
+    conflict-find-keeps-last-search)
+      mutate "$tree/src/DelaunayRefinementConflictRegions.h" \
+        '    Clear();
+    m_Points = points;' \
+        '    m_Points = points;'
+      ;;
+    conflict-33-points-accepted)
+      mutate "$tree/src/DelaunayRefinementConflictRegions.h" \
+        'if (points.size() > MaximumPoints)' \
+        'if (points.size() > MaximumPoints + 1)'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2

@@ -29,7 +29,9 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <optional>
 #include <set>
+#include <stdexcept>
 #include <vector>
 
 namespace dr = delaunay_refinement;
@@ -37,14 +39,18 @@ using dr::detail::CellHandle;
 using dr::detail::ConflictRegions;
 using dr::detail::Triangulation;
 using dr::operator-;
+using dr::operator+;
+using dr::operator*;
 
 namespace
 {
 
 /** Integer points of a 7 × 7 × 7 block, about half of them (a fixed draw), with every cell's cache filled as the
- * refinement fills it: circumcentre and squared circumradius. */
+ * refinement fills it: circumcentre and squared circumradius. With `centreShift`, each cached circumcentre is moved
+ * by that fraction of the circumradius in a direction drawn for the cell, and the squared radius is its squared
+ * distance to the cell's first corner (MeshState::ComputeCache): a cache as far off as the refinement's may be. */
 Triangulation
-LatticeTriangulation()
+LatticeTriangulation(double centreShift = 0.0)
 {
   std::mt19937                       random(20261128);
   std::bernoulli_distribution        keep(0.5);
@@ -62,12 +68,16 @@ LatticeTriangulation()
       }
     }
   }
-  Triangulation triangulation(points.begin(), points.end());
+  Triangulation                    triangulation(points.begin(), points.end());
+  std::normal_distribution<double> component;
   for (auto cell = triangulation.finite_cells_begin(); cell != triangulation.finite_cells_end(); ++cell)
   {
-    cell->cache.circumcenter = dr::detail::ToVector(triangulation.dual(cell));
-    cell->cache.squaredRadius =
-      dr::SquaredNorm(cell->cache.circumcenter - dr::detail::ToVector(cell->vertex(0)->point()));
+    const dr::Vector3 center = dr::detail::ToVector(triangulation.dual(cell));
+    const dr::Vector3 corner = dr::detail::ToVector(cell->vertex(0)->point());
+    dr::Vector3       direction{ { component(random), component(random), component(random) } };
+    direction = (1.0 / dr::Norm(direction)) * direction;
+    cell->cache.circumcenter = center + (centreShift * dr::Norm(center - corner)) * direction;
+    cell->cache.squaredRadius = dr::SquaredNorm(cell->cache.circumcenter - corner);
   }
   return triangulation;
 }
@@ -119,16 +129,59 @@ IsOnSomeSphere(const Triangulation & triangulation, const std::vector<CellHandle
   return false;
 }
 
-} // namespace
-
-TEST(ConflictRegions, AreCgalsRegionsPointByPoint)
+/** What a comparison with CGAL's regions went through. */
+struct Compared
 {
-  Triangulation   triangulation = LatticeTriangulation();
+  std::size_t points = 0;
+  std::size_t pointsOnASphere = 0;
+  /** Points that the cached sphere alone, without the margin and the exact predicate, puts on the wrong side of the
+   * sphere of some cell within the region's reach. */
+  std::size_t pointsTheCacheAloneMisjudges = 0;
+};
+
+/** Whether the cached sphere of some finite cell within the region's reach (its cells and their neighbours) puts
+ * `point` on the other side than CGAL's exact predicate with its perturbation. */
+bool
+CacheAloneMisjudges(const Triangulation & triangulation, const std::vector<CellHandle> & cells,
+                    const dr::Vector3 & point)
+{
+  const dr::detail::CgalPoint cgalPoint = dr::detail::ToCgal(point);
+  for (const CellHandle cell : cells)
+  {
+    for (int facet = 0; facet < 4; ++facet)
+    {
+      for (const CellHandle nearby : { cell, cell->neighbor(facet) })
+      {
+        if (triangulation.is_infinite(nearby))
+        {
+          continue;
+        }
+        const bool byCache = dr::SquaredNorm(point - nearby->cache.circumcenter) < nearby->cache.squaredRadius;
+        const bool exactly = triangulation.side_of_sphere(nearby, cgalPoint, true) == CGAL::ON_BOUNDED_SIDE;
+        if (byCache != exactly)
+        {
+          return true;
+        }
+      }
+    }
+  }
+  return false;
+}
+
+/** For every `stride`-th finite cell, the conflict regions of the half-integer points well inside its circumball,
+ * found in one search from it, against CGAL's locate and find_conflicts point by point. Clear() between two cells
+ * when `clearBetween`; Find() alone otherwise. */
+void
+CompareWithCgalsRegions(const Triangulation & triangulation, std::size_t stride, bool clearBetween, Compared & compared)
+{
   ConflictRegions regions;
-  std::size_t     pointsCompared = 0;
-  std::size_t     pointsOnASphere = 0;
+  std::size_t     cellIndex = 0;
   for (auto cell = triangulation.finite_cells_begin(); cell != triangulation.finite_cells_end(); ++cell)
   {
+    if (cellIndex++ % stride != 0)
+    {
+      continue;
+    }
     const std::vector<dr::Vector3> points = HalfIntegerPointsInside(cell, ConflictRegions::MaximumPoints);
     if (points.empty())
     {
@@ -160,13 +213,77 @@ TEST(ConflictRegions, AreCgalsRegionsPointByPoint)
       ASSERT_EQ(cells, expectedCells) << "point " << points[index][0] << " " << points[index][1] << " "
                                       << points[index][2];
       ASSERT_EQ(facets, expectedFacets);
-      ++pointsCompared;
-      pointsOnASphere += IsOnSomeSphere(triangulation, cells, points[index]);
+      ++compared.points;
+      compared.pointsOnASphere += IsOnSomeSphere(triangulation, cells, points[index]);
+      compared.pointsTheCacheAloneMisjudges += CacheAloneMisjudges(triangulation, cells, points[index]);
     }
-    regions.Clear();
-    EXPECT_FALSE(regions.IndexOf(points.front()).has_value());
+    if (clearBetween)
+    {
+      regions.Clear();
+      EXPECT_FALSE(regions.IndexOf(points.front()).has_value());
+    }
   }
+}
+
+} // namespace
+
+TEST(ConflictRegions, AreCgalsRegionsPointByPoint)
+{
+  const Triangulation triangulation = LatticeTriangulation();
+  Compared            compared;
+  CompareWithCgalsRegions(triangulation, 1, true, compared);
+  ASSERT_FALSE(HasFatalFailure());
   // The lattice is there for the degenerate cases (measured: 19,429 points compared, 7,398 of them on a sphere).
-  EXPECT_GT(pointsCompared, 10000u);
-  EXPECT_GT(pointsOnASphere, pointsCompared / 10);
+  EXPECT_GT(compared.points, 10000u);
+  EXPECT_GT(compared.pointsOnASphere, compared.points / 10);
+}
+
+TEST(ConflictRegions, AreCgalsRegionsWhenTheCachedCentresAreAsFarOffAsTheRefinementsMayBe)
+{
+  // MeshState keeps a cached circumcentre within about 1e-7 of the longest edge, so 2e-7 of the radius, of the
+  // true one (ConflictRegions::SphereMargin): a point on or near a sphere is then up to about 8e-7 of the squared
+  // radius on the wrong side of the cached one, and the exact predicate must decide it.
+  const Triangulation triangulation = LatticeTriangulation(2e-7);
+  Compared            compared;
+  CompareWithCgalsRegions(triangulation, 1, true, compared);
+  ASSERT_FALSE(HasFatalFailure());
+  EXPECT_GT(compared.points, 10000u);
+  // The shifted caches alone would misjudge many points: the margin, not the cache, kept the regions CGAL's.
+  EXPECT_GT(compared.pointsTheCacheAloneMisjudges, compared.points / 20);
+}
+
+TEST(ConflictRegions, FindForgetsTheRegionsOfTheSearchBefore)
+{
+  // Find() after Find(), without Clear(): each search gives the regions of its own points only, as CGAL does. Every
+  // third cell, so that two searches in a row start from cells far apart as well as near.
+  const Triangulation triangulation = LatticeTriangulation();
+  Compared            compared;
+  CompareWithCgalsRegions(triangulation, 3, false, compared);
+  ASSERT_FALSE(HasFatalFailure());
+  EXPECT_GT(compared.points, 3000u);
+}
+
+TEST(ConflictRegions, RefusesMorePointsThanBits)
+{
+  const Triangulation triangulation = LatticeTriangulation();
+  // The cell with the largest circumball holds more than 33 half-integer points well inside it.
+  CellHandle largest = triangulation.finite_cells_begin();
+  for (auto cell = triangulation.finite_cells_begin(); cell != triangulation.finite_cells_end(); ++cell)
+  {
+    if (cell->cache.squaredRadius > largest->cache.squaredRadius)
+    {
+      largest = cell;
+    }
+  }
+  std::vector<dr::Vector3> points = HalfIntegerPointsInside(largest, ConflictRegions::MaximumPoints + 1);
+  ASSERT_EQ(points.size(), ConflictRegions::MaximumPoints + 1);
+  ConflictRegions regions;
+  EXPECT_THROW(regions.Find(triangulation, largest, points), std::logic_error);
+  // One point fewer, one bit each: the last point has the last bit, and its region holds the start cell.
+  points.pop_back();
+  regions.Find(triangulation, largest, points);
+  std::vector<CellHandle>           cells;
+  std::vector<Triangulation::Facet> facets;
+  regions.RegionOf(ConflictRegions::MaximumPoints - 1, cells, facets);
+  EXPECT_NE(std::find(cells.begin(), cells.end(), largest), cells.end());
 }
