@@ -367,6 +367,17 @@
 #                                 did the lattice test; caught by ConflictRegions.FindForgetsTheRegionsOfTheSearchBefore
 #   conflict-33-points-accepted   Find() takes 33 points, one more than it has bits (the 33rd shares the first's);
 #                                 caught by ConflictRegions.RefusesMorePointsThanBits
+#   Bugs in the refinement queue's bookkeeping (added 2026-12-03, fourth stop), which leave the meshes as they are
+#   (the live entries come out in the same order) and passed the unit tests, the fingerprints and the core tests:
+#   queue-removal-ignores-size    the dead entries are removed every MinimumPushesBetweenRemovals pushes whatever the
+#                                 queue held after the last removal, a pass over the whole queue each time (quadratic
+#                                 on large queues); caught by RefinementQueue.RemovesDeadEntriesOnceAsManyPushesAsIt-
+#                                 HeldAfterTheLastRemoval
+#   queue-release-drops-entries   ReleaseEmptyLevels() gives back the storage of every level, entries and all, not only
+#                                 of the empty ones; the refinement calls it when the queue is empty; caught by
+#                                 RefinementQueue.ReleasingTheEmptyLevelsKeepsTheEntriesOfTheOthers
+#   queue-size-last-level-only    the queue's size counts the sliver level's entries only: the progress reports' pending
+#                                 tetrahedra and the removal's schedule follow it; caught by both tests above
 #   Run the same day and caught before (by the fingerprints, VertexCap or the randomized regressions), so not listed:
 #   the feature vertex's deletion radius halved, the box rules' ball closed for box-face vertices, feature vertices
 #   kept where the labels changed, dead cells reported after a move, one vertex over the cap, the places found by the
@@ -598,7 +609,8 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   repairable-share-counts-places halving-below-finest halving-twice-in-a-round places-point-per-label
   move-counted-as-deletion genus2-lfs-ignores-holes bisection-fifty-steps bisection-past-the-tolerance
   cli-dimensions-unchecked
-  conflict-margin-below-cache-error conflict-find-keeps-last-search conflict-33-points-accepted)
+  conflict-margin-below-cache-error conflict-find-keeps-last-search conflict-33-points-accepted
+  queue-removal-ignores-size queue-release-drops-entries queue-size-last-level-only)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -1425,6 +1437,25 @@ apply_mutation() {
       mutate "$tree/src/DelaunayRefinementConflictRegions.h" \
         'if (points.size() > MaximumPoints)' \
         'if (points.size() > MaximumPoints + 1)'
+      ;;
+    queue-removal-ignores-size)
+      mutate "$tree/src/DelaunayRefinementQueue.h" \
+        'std::max(m_SizeAfterRemoval, MinimumPushesBetweenRemovals)' \
+        'MinimumPushesBetweenRemovals'
+      ;;
+    queue-release-drops-entries)
+      mutate "$tree/src/DelaunayRefinementQueue.h" \
+        'if (m_Entries.empty())
+    {
+      std::vector' \
+        'if (true)
+    {
+      std::vector'
+      ;;
+    queue-size-last-level-only)
+      mutate "$tree/src/DelaunayRefinementQueue.h" \
+        'size += heap.Size();' \
+        'size = heap.Size();'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2

@@ -26,6 +26,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <random>
 #include <unordered_set>
@@ -216,5 +217,113 @@ TEST(RefinementQueue, PopsLevelByLevelLargestFirstTiesByVertexIds)
     EXPECT_EQ(queue.Pop(poppedLevel).stamp, stamp);
     EXPECT_EQ(poppedLevel, level);
   }
+  EXPECT_TRUE(queue.Empty());
+}
+
+TEST(RefinementQueue, RemovesDeadEntriesOnceAsManyPushesAsItHeldAfterTheLastRemoval)
+{
+  // The removal is due when the pushes since the last one reach the entries left by it, or the minimum
+  // (MinimumPushesBetweenRemovals), whichever is larger: its pass over the queue then costs a constant per push. The
+  // first removal, after the minimum's pushes into an empty queue, tells the minimum, m. With no entry dead, the
+  // second comes m pushes later, over 2m entries; all of them dead, the third 2m later, over 4m, removes 2m; all the
+  // rest dead and every new entry with them, the fourth 2m later, over 4m, removes all; the queue then empty, the
+  // fifth and sixth come m pushes apart.
+  struct Removal
+  {
+    std::size_t pushes;
+    std::size_t looked;
+    std::size_t removed;
+  };
+  RefinementQueue              queue;
+  std::unordered_set<uint64_t> dead;
+  std::size_t                  looked = 0;
+  const auto                   isAlive = [&dead, &looked](const QueueEntry & entry) {
+    ++looked;
+    return dead.count(entry.stamp) == 0;
+  };
+  std::vector<Removal> removals;
+  std::size_t          minimum = 0;
+  bool                 newEntriesDie = false;
+  for (uint64_t stamp = 1; minimum == 0 || stamp <= 8 * minimum; ++stamp)
+  {
+    ASSERT_LT(stamp, 1000000U) << "no removal";
+    QueueEntry entry{};
+    entry.squaredRadius = 1.0 + static_cast<double>(stamp % 7);
+    entry.stamp = stamp;
+    entry.vertexIds = { 0, 1, 2, static_cast<uint32_t>(stamp + 2) };
+    queue.Push(static_cast<QueueLevel>(stamp % 3), entry);
+    if (newEntriesDie)
+    {
+      dead.insert(stamp);
+    }
+    const std::size_t lookedBefore = looked;
+    const std::size_t removed = queue.RemoveDeadWhenDue(isAlive);
+    if (looked == lookedBefore)
+    {
+      ASSERT_EQ(removed, 0U);
+      continue;
+    }
+    removals.push_back({ static_cast<std::size_t>(stamp), looked - lookedBefore, removed });
+    if (removals.size() == 1)
+    {
+      minimum = stamp;
+    }
+    if (removals.size() == 2 || removals.size() == 3)
+    {
+      for (uint64_t killed = 1; killed <= stamp; ++killed)
+      {
+        dead.insert(killed);
+      }
+      newEntriesDie = removals.size() == 3;
+    }
+  }
+  const std::size_t m = minimum;
+  ASSERT_EQ(removals.size(), 6U);
+  const std::array<Removal, 6> expected{ { { m, m, 0 },
+                                           { 2 * m, 2 * m, 0 },
+                                           { 4 * m, 4 * m, 2 * m },
+                                           { 6 * m, 4 * m, 4 * m },
+                                           { 7 * m, m, m },
+                                           { 8 * m, m, m } } };
+  for (std::size_t index = 0; index < expected.size(); ++index)
+  {
+    EXPECT_EQ(removals[index].pushes, expected[index].pushes) << "removal " << index << ", m = " << m;
+    EXPECT_EQ(removals[index].looked, expected[index].looked) << "removal " << index << ", m = " << m;
+    EXPECT_EQ(removals[index].removed, expected[index].removed) << "removal " << index << ", m = " << m;
+  }
+  EXPECT_EQ(queue.Size(), 0U);
+}
+
+TEST(RefinementQueue, ReleasingTheEmptyLevelsKeepsTheEntriesOfTheOthers)
+{
+  RefinementQueue queue;
+  const auto      entry = [](double squaredRadius, uint64_t stamp) {
+    QueueEntry made{};
+    made.squaredRadius = squaredRadius;
+    made.stamp = stamp;
+    made.vertexIds = { 0, 1, 2, static_cast<uint32_t>(stamp + 2) };
+    return made;
+  };
+  queue.Push(QueueLevel::Surface, entry(5.0, 1));
+  queue.Push(QueueLevel::Quality, entry(1.0, 2));
+  queue.Push(QueueLevel::Quality, entry(3.0, 3));
+  queue.Push(QueueLevel::Quality, entry(2.0, 4));
+  QueueLevel level = QueueLevel::Sliver;
+  EXPECT_EQ(queue.Pop(level).stamp, 1U);
+  EXPECT_EQ(level, QueueLevel::Surface);
+  // The surface and sliver levels are empty now; the quality level keeps its three entries, in their order.
+  queue.ReleaseEmptyLevels();
+  ASSERT_EQ(queue.Size(), 3U);
+  for (const uint64_t stamp : { 3U, 4U, 2U })
+  {
+    ASSERT_FALSE(queue.Empty());
+    EXPECT_EQ(queue.Pop(level).stamp, stamp);
+    EXPECT_EQ(level, QueueLevel::Quality);
+  }
+  EXPECT_TRUE(queue.Empty());
+  // Released, a level takes entries again.
+  queue.ReleaseEmptyLevels();
+  queue.Push(QueueLevel::Surface, entry(1.0, 5));
+  EXPECT_EQ(queue.Pop(level).stamp, 5U);
   EXPECT_TRUE(queue.Empty());
 }
