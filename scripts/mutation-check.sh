@@ -267,6 +267,9 @@
 #   cli-dimensions-unchecked      the command line meshes a 2-D image (as a slab one voxel thick) and a 4-D image of
 #                                 two time points (its first volume) instead of refusing them; all CommandLine tests
 #                                 passed (2026-12-03); now caught by DelaunayImageToMeshCommandLine.Errors
+#   cli-relabelling-unsaid        the program's summary never says how many tetrahedra the relabelling changed (no
+#                                 test read the summary of a run that relabels: coverage, 2026-12-03); now caught by
+#                                 DelaunayImageToMeshCommandLine.TopologyOptions
 #   bisection-returns-an-end      the bisection returns the end of its last bracket on a's side, not the bracket's
 #                                 midpoint (within the tolerance still, so every feature vertex stays on the surface);
 #                                 before the new test only RandomizedStability.FirstMeshesOfEveryFamilyChangeByAFewPer-
@@ -610,7 +613,7 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   move-counted-as-deletion genus2-lfs-ignores-holes bisection-fifty-steps bisection-past-the-tolerance
   cli-dimensions-unchecked
   conflict-margin-below-cache-error conflict-find-keeps-last-search conflict-33-points-accepted
-  queue-removal-ignores-size queue-release-drops-entries queue-size-last-level-only)
+  queue-removal-ignores-size queue-release-drops-entries queue-size-last-level-only cli-relabelling-unsaid)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -1421,6 +1424,11 @@ apply_mutation() {
       ;;
     cli-dimensions-unchecked)
       mutate "$tree/examples/DelaunayImageToMeshInput.h" '  if (dimensions != 3)' '  if (false)'
+      ;;
+    cli-relabelling-unsaid)
+      mutate "$tree/examples/DelaunayImageToMesh.cxx" \
+        'if (!options.quiet && filter->GetNumberOfTopologyRelabelledTetrahedra() > 0)' \
+        'if (!options.quiet && filter->GetNumberOfTopologyRelabelledTetrahedra() > 1000000000)'
       ;;
     conflict-margin-below-cache-error)
       mutate "$tree/src/DelaunayRefinementConflictRegions.h" \

@@ -30,14 +30,19 @@ values) must be a closed manifold with the defaults, checked from the file by th
 regularisation must have worked for it; with the voxels as they are and no rounds it keeps non-manifold places (else
 it tests nothing), and there the halving itself is checked: it must run and leave fewer.
 
+What the regularisation changed is also said in the summary the program prints without --quiet: the voxels changed at
+pinches, the tetrahedra relabelled, the rounds of halving and the places left, each line checked against the report.
+
 Usage: DelaunayImageToMeshCommandLineTopologyOptions.py PROGRAM OUTPUT_DIRECTORY EXAMPLES_DATA"""
 
+import json
 import os
+import re
 import sys
 
 from DelaunayImageToMeshCommandLineIndependentQuality import KMEANS_TISSUES as KMEANS_TISSUES_AND_SELECTION
 from DelaunayImageToMeshCommandLineIndependentQuality import check_mesh
-from DelaunayImageToMeshCommandLineTesting import check, mesh_and_report
+from DelaunayImageToMeshCommandLineTesting import check, describe, mesh_and_report, remove_if_present, run
 
 # The real-image cases' k-means file and tissue selection, written once there.
 KMEANS_TISSUES, TISSUES = KMEANS_TISSUES_AND_SELECTION
@@ -92,6 +97,26 @@ OPTIONS_OFF = [
 ]
 
 
+def report_and_summary(program, image, directory, name, options):
+    """Meshes `image` without --quiet, with a JSON report: (report, what the program printed on stdout)."""
+    os.makedirs(directory, exist_ok=True)
+    mesh_path = os.path.join(directory, f"{name}.vtu")
+    report_path = os.path.join(directory, f"{name}.json")
+    remove_if_present(mesh_path, report_path)
+    result = run(program, [image, mesh_path, "--report", report_path, *options])
+    check(result.returncode == 0, f"meshing {image} {' '.join(options)} failed: {describe(result)}")
+    with open(report_path, encoding="utf-8") as file:
+        return json.load(file), result.stdout
+
+
+def check_summary_line(summary, pattern, expected, what):
+    """The summary the program prints must hold a line matching `pattern` whose first number is `expected`: what the
+    regularisation changed is said on the console too, not only in the JSON report."""
+    found = re.search(pattern, summary)
+    check(found is not None, f"{what}: no line matching '{pattern}' in what the program printed:\n{summary}")
+    check(int(found.group(1)) == expected, f"{what}: the program printed '{found.group(0)}', the report says {expected}")
+
+
 def check_parameters(report, expected, what):
     parameters = report["parameters"]
     for key, value in expected.items():
@@ -101,8 +126,12 @@ def check_parameters(report, expected, what):
 
 def main(program, output, examples_data):
     image = os.path.join(examples_data, KMEANS_TISSUES)
-    _, default = mesh_and_report(program, image, output, "defaults", options=TISSUES + DELTA)
+    default, summary = report_and_summary(program, image, output, "defaults", TISSUES + DELTA)
     check_parameters(default, DEFAULT_PARAMETERS, "the defaults")
+    check_summary_line(summary, r"removed voxel pinches \([^)]*\): (\d+) voxels changed label",
+                       default["topology"]["voxels_changed_at_pinches"], "the defaults")
+    check_summary_line(summary, r"relabelled at non-manifold places: (\d+) tetrahedra took a neighbour's label",
+                       default["topology"]["relabelled_tetrahedra"], "the defaults")
     for step, work in STEPS.items():
         check(work(default) > 0, f"with the defaults the {step} did nothing on {KMEANS_TISSUES} at 6 mm: the image "
               f"no longer tests the option that turns it off ({default['topology']})")
@@ -134,13 +163,19 @@ def main(program, output, examples_data):
 
     # The halving where the rounds cannot mend a place: with the voxels as they are and no rounds.
     plain_options = ISO_SURFACE + VOXELS_AS_THEY_ARE
-    _, plain = mesh_and_report(program, raw_t1, output, "iso-plain", options=plain_options)
+    plain, plain_summary = report_and_summary(program, raw_t1, output, "iso-plain", plain_options)
     check(plain["quality"]["non_manifold_vertices"] > 0, f"{RAW_T1} {' '.join(plain_options)} is a closed manifold "
           "without the halving: it no longer tests it")
     check(plain["topology"]["manifold_refinement_rounds"] == 0 and plain["topology"]["regularization_rounds"] == 0,
           f"{RAW_T1} {' '.join(plain_options)}: without --manifold-levels {plain['topology']}")
+    # The places left are said, with the option that refines around them.
+    check("; --manifold-levels 2 refines around them" in plain_summary and
+          re.search(r"non-manifold places left \(a vertex and a label each\): [1-9]", plain_summary) is not None,
+          f"{RAW_T1} {' '.join(plain_options)}: the places left are not said:\n{plain_summary}")
     halving = ["--manifold-levels", "2"]
-    _, halved = mesh_and_report(program, raw_t1, output, "iso-halved", options=plain_options + halving)
+    halved, halved_summary = report_and_summary(program, raw_t1, output, "iso-halved", plain_options + halving)
+    check_summary_line(halved_summary, r"halved delta around non-manifold places: (\d+) rounds",
+                       halved["topology"]["manifold_refinement_rounds"], " ".join(plain_options + halving))
     check_parameters(halved, {"iso_value": 60.0, "manifold_refinement_levels": 2}, " ".join(plain_options + halving))
     check(halved["topology"]["manifold_refinement_rounds"] > 0,
           f"{' '.join(plain_options + halving)}: delta was never halved ({halved['topology']})")
