@@ -270,6 +270,9 @@
 #   cli-relabelling-unsaid        the program's summary never says how many tetrahedra the relabelling changed (no
 #                                 test read the summary of a run that relabels: coverage, 2026-12-03); now caught by
 #                                 DelaunayImageToMeshCommandLine.TopologyOptions
+#   cli-progress-bar-overfilled   the progress bar on a terminal fills one percent ahead of its number (no test ran the
+#                                 program on a terminal: coverage, 2026-12-03); now caught by
+#                                 DelaunayImageToMeshCommandLine.Inputs
 #   bisection-returns-an-end      the bisection returns the end of its last bracket on a's side, not the bracket's
 #                                 midpoint (within the tolerance still, so every feature vertex stays on the surface);
 #                                 before the new test only RandomizedStability.FirstMeshesOfEveryFamilyChangeByAFewPer-
@@ -613,7 +616,8 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   move-counted-as-deletion genus2-lfs-ignores-holes bisection-fifty-steps bisection-past-the-tolerance
   cli-dimensions-unchecked
   conflict-margin-below-cache-error conflict-find-keeps-last-search conflict-33-points-accepted
-  queue-removal-ignores-size queue-release-drops-entries queue-size-last-level-only cli-relabelling-unsaid)
+  queue-removal-ignores-size queue-release-drops-entries queue-size-last-level-only cli-relabelling-unsaid
+  cli-progress-bar-overfilled)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -1429,6 +1433,10 @@ apply_mutation() {
       mutate "$tree/examples/DelaunayImageToMesh.cxx" \
         'if (!options.quiet && filter->GetNumberOfTopologyRelabelledTetrahedra() > 0)' \
         'if (!options.quiet && filter->GetNumberOfTopologyRelabelledTetrahedra() > 1000000000)'
+      ;;
+    cli-progress-bar-overfilled)
+      mutate "$tree/examples/DelaunayImageToMesh.cxx" '      const int     filled = percent * width / 100;' \
+        '      const int     filled = (percent + 1) * width / 100;'
       ;;
     conflict-margin-below-cache-error)
       mutate "$tree/src/DelaunayRefinementConflictRegions.h" \

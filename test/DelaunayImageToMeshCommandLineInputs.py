@@ -24,7 +24,9 @@ Usage: DelaunayImageToMeshCommandLineInputs.py PROGRAM IMAGE_DIRECTORY OUTPUT_DI
 
 import filecmp
 import os
+import pty
 import re
+import subprocess
 import sys
 
 from DelaunayImageToMeshCommandLineTesting import (BALL_VOLUMES, ISO_BALL_VOLUME, check, describe, mesh_and_report,
@@ -141,6 +143,44 @@ def check_progress_and_table(program, image, output):
           f"without --distance the table should say the distance was not measured: {describe(result)}")
 
 
+def check_progress_bar_on_a_terminal(program, image, output):
+    """On a terminal the progress is one line redrawn in place: "\\r" then "meshing [", 40 places of which one per
+    2.5 % are '#', "] " and the percent; the percents only grow, the last is 100 % with the bar full, and a newline
+    ends the line. Only the meshing shows its progress here (no --distance), so every redraw is the meshing's."""
+    terminal, terminal_side = pty.openpty()
+    try:
+        process = subprocess.Popen([program, image, os.path.join(output, "terminal.vtu"), "--delta", "2"],
+                                   stdout=subprocess.DEVNULL, stderr=terminal_side)
+        os.close(terminal_side)
+        shown = b""
+        while True:
+            try:
+                chunk = os.read(terminal, 4096)
+            except OSError:  # the program closed its end
+                break
+            if not chunk:
+                break
+            shown += chunk
+        check(process.wait(timeout=600) == 0, f"meshing on a terminal failed: {shown!r}")
+    finally:
+        os.close(terminal)
+    text = shown.decode("utf-8").replace("\r\n", "\n")
+    check(text.startswith("\r") and text.endswith("\n"), f"the bar should be redrawn in place, then end: {text!r}")
+    bars = text.rstrip("\n").split("\r")[1:]
+    percents = []
+    for bar in bars:
+        drawn = re.fullmatch(r"meshing \[(#*)( *)\] (\d{1,3})%", bar)
+        check(drawn is not None and len(drawn.group(1)) + len(drawn.group(2)) == 40,
+              f"not a bar of 40 places: {bar!r} in {text!r}")
+        percent = int(drawn.group(3))
+        check(len(drawn.group(1)) == percent * 40 // 100, f"{bar!r}: the bar does not show {percent} %")
+        percents.append(percent)
+    # A step of one percent somewhere: the display on a terminal is redrawn for every percent, not every tenth.
+    check(percents == sorted(set(percents)) and percents[-1] == 100 and
+          any(later - earlier == 1 for earlier, later in zip(percents, percents[1:])),
+          f"the percents should grow, by one where the work allows, up to 100: {percents}")
+
+
 def check_distance_on_request(program, image, output, default_report):
     """The distance costs several times the meshing on speckled images: measured with --distance only, and then
     on the same mesh (the option changes the report, never the mesh)."""
@@ -173,6 +213,7 @@ def main(program, images, output):
     check_iso_value(program, images, output)
     check_options(program, os.path.join(images, "labels.nii.gz"), output, default_report)
     check_progress_and_table(program, os.path.join(images, "labels.nii.gz"), output)
+    check_progress_bar_on_a_terminal(program, os.path.join(images, "labels.nii.gz"), output)
     check_distance_on_request(program, os.path.join(images, "labels.nii.gz"), output, default_report)
     print("NIfTI, NRRD, MetaImage and DICOM inputs, --iso, --labels, --delta, --radius-edge, --min-dihedral, "
           "--distance and progress: all as expected")
