@@ -58,18 +58,26 @@ def remove_if_present(*paths):
             os.remove(path)
 
 
-def mesh_and_report(program, image, directory, name, extension="vtu", options=()):
-    """Meshes `image` quietly into directory/name.extension with a JSON report; returns (mesh path, report)."""
+def mesh_report_and_summary(program, image, directory, name, extension="vtu", options=(), quiet=True):
+    """Meshes `image` into directory/name.extension with a JSON report, with --quiet unless `quiet` is False;
+    returns (mesh path, report, what the program printed on stdout)."""
     os.makedirs(directory, exist_ok=True)
     mesh_path = os.path.join(directory, f"{name}.{extension}")
     report_path = os.path.join(directory, f"{name}.json")
     # A run in a build tree that already holds the files of an earlier run must write them again to pass.
     remove_if_present(mesh_path, report_path)
-    result = run(program, [image, mesh_path, "--report", report_path, "--quiet", *options])
-    check(result.returncode == 0, f"meshing {image} failed: {describe(result)}")
-    check(result.stdout == "" and result.stderr == "", f"--quiet printed something: {describe(result)}")
+    result = run(program, [image, mesh_path, "--report", report_path, *(["--quiet"] if quiet else []), *options])
+    check(result.returncode == 0, f"meshing {image} {' '.join(options)} failed: {describe(result)}")
+    if quiet:
+        check(result.stdout == "" and result.stderr == "", f"--quiet printed something: {describe(result)}")
     with open(report_path, encoding="utf-8") as file:
-        return mesh_path, json.load(file)
+        return mesh_path, json.load(file), result.stdout
+
+
+def mesh_and_report(program, image, directory, name, extension="vtu", options=()):
+    """Meshes `image` quietly into directory/name.extension with a JSON report; returns (mesh path, report)."""
+    mesh_path, report, _ = mesh_report_and_summary(program, image, directory, name, extension, options)
+    return mesh_path, report
 
 
 def tetrahedra_per_label(report):

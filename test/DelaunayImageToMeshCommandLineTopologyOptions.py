@@ -35,14 +35,13 @@ pinches, the tetrahedra relabelled, the rounds of halving and the places left, e
 
 Usage: DelaunayImageToMeshCommandLineTopologyOptions.py PROGRAM OUTPUT_DIRECTORY EXAMPLES_DATA"""
 
-import json
 import os
 import re
 import sys
 
 from DelaunayImageToMeshCommandLineIndependentQuality import KMEANS_TISSUES as KMEANS_TISSUES_AND_SELECTION
 from DelaunayImageToMeshCommandLineIndependentQuality import check_mesh
-from DelaunayImageToMeshCommandLineTesting import check, describe, mesh_and_report, remove_if_present, run
+from DelaunayImageToMeshCommandLineTesting import check, mesh_and_report, mesh_report_and_summary
 
 # The real-image cases' k-means file and tissue selection, written once there.
 KMEANS_TISSUES, TISSUES = KMEANS_TISSUES_AND_SELECTION
@@ -97,18 +96,6 @@ OPTIONS_OFF = [
 ]
 
 
-def report_and_summary(program, image, directory, name, options):
-    """Meshes `image` without --quiet, with a JSON report: (report, what the program printed on stdout)."""
-    os.makedirs(directory, exist_ok=True)
-    mesh_path = os.path.join(directory, f"{name}.vtu")
-    report_path = os.path.join(directory, f"{name}.json")
-    remove_if_present(mesh_path, report_path)
-    result = run(program, [image, mesh_path, "--report", report_path, *options])
-    check(result.returncode == 0, f"meshing {image} {' '.join(options)} failed: {describe(result)}")
-    with open(report_path, encoding="utf-8") as file:
-        return json.load(file), result.stdout
-
-
 def check_summary_line(summary, pattern, expected, what):
     """The summary the program prints must hold a line matching `pattern` whose first number is `expected`: what the
     regularisation changed is said on the console too, not only in the JSON report."""
@@ -126,7 +113,8 @@ def check_parameters(report, expected, what):
 
 def main(program, output, examples_data):
     image = os.path.join(examples_data, KMEANS_TISSUES)
-    default, summary = report_and_summary(program, image, output, "defaults", TISSUES + DELTA)
+    _, default, summary = mesh_report_and_summary(program, image, output, "defaults", options=TISSUES + DELTA,
+                                                  quiet=False)
     check_parameters(default, DEFAULT_PARAMETERS, "the defaults")
     check_summary_line(summary, r"removed voxel pinches \([^)]*\): (\d+) voxels changed label",
                        default["topology"]["voxels_changed_at_pinches"], "the defaults")
@@ -163,7 +151,8 @@ def main(program, output, examples_data):
 
     # The halving where the rounds cannot mend a place: with the voxels as they are and no rounds.
     plain_options = ISO_SURFACE + VOXELS_AS_THEY_ARE
-    plain, plain_summary = report_and_summary(program, raw_t1, output, "iso-plain", plain_options)
+    _, plain, plain_summary = mesh_report_and_summary(program, raw_t1, output, "iso-plain", options=plain_options,
+                                                      quiet=False)
     check(plain["quality"]["non_manifold_vertices"] > 0, f"{RAW_T1} {' '.join(plain_options)} is a closed manifold "
           "without the halving: it no longer tests it")
     check(plain["topology"]["manifold_refinement_rounds"] == 0 and plain["topology"]["regularization_rounds"] == 0,
@@ -173,7 +162,8 @@ def main(program, output, examples_data):
           re.search(r"non-manifold places left \(a vertex and a label each\): [1-9]", plain_summary) is not None,
           f"{RAW_T1} {' '.join(plain_options)}: the places left are not said:\n{plain_summary}")
     halving = ["--manifold-levels", "2"]
-    halved, halved_summary = report_and_summary(program, raw_t1, output, "iso-halved", plain_options + halving)
+    _, halved, halved_summary = mesh_report_and_summary(program, raw_t1, output, "iso-halved",
+                                                        options=plain_options + halving, quiet=False)
     check_summary_line(halved_summary, r"halved delta around non-manifold places: (\d+) rounds",
                        halved["topology"]["manifold_refinement_rounds"], " ".join(plain_options + halving))
     check_parameters(halved, {"iso_value": 60.0, "manifold_refinement_levels": 2}, " ".join(plain_options + halving))
