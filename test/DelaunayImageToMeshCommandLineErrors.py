@@ -120,22 +120,17 @@ def error_cases(image, output):
 def write_sheared_image(directory):
     """A MetaImage of a 6-voxel cube of label 1 in a 10^3 grid whose second axis leans on the first: direction
     columns (1, 0, 0) and (0.5, 1, 0), as a CT gantry tilt gives."""
-    path = os.path.join(directory, "sheared.mha")
-    header = ("ObjectType = Image\nNDims = 3\nBinaryData = True\nBinaryDataByteOrderMSB = False\n"
-              "DimSize = 10 10 10\nElementSpacing = 1 1 1\nOffset = 0 0 0\nTransformMatrix = 1 0 0 0.5 1 0 0 0 1\n"
-              "ElementType = MET_UCHAR\nElementDataFile = LOCAL\n")
-    voxels = bytes(1 if all(2 <= c < 8 for c in (x, y, z)) else 0
-                   for z in range(10) for y in range(10) for x in range(10))
-    with open(path, "wb") as file:
-        file.write(header.encode("ascii") + voxels)
-    return path
+    return write_cube_image(directory, "sheared.mha", [10, 10, 10],
+                            "ElementSpacing = 1 1 1\nOffset = 0 0 0\nTransformMatrix = 1 0 0 0.5 1 0 0 0 1\n")
 
 
-def write_cube_image(directory, name, sizes):
-    """A MetaImage of the given sizes (2 to 4 axes), label 1 on voxels 2 to 7 of the first three axes, else 0."""
+def write_cube_image(directory, name, sizes, geometry=""):
+    """A MetaImage of the given sizes (2 to 4 axes), label 1 on voxels 2 to 7 of the first three axes, else 0;
+    `geometry` holds header lines such as the spacing and the direction."""
     path = os.path.join(directory, name)
     header = (f"ObjectType = Image\nNDims = {len(sizes)}\nBinaryData = True\nBinaryDataByteOrderMSB = False\n"
-              f"DimSize = {' '.join(str(size) for size in sizes)}\nElementType = MET_UCHAR\nElementDataFile = LOCAL\n")
+              f"DimSize = {' '.join(str(size) for size in sizes)}\n{geometry}ElementType = MET_UCHAR\n"
+              "ElementDataFile = LOCAL\n")
     count = 1
     for size in sizes:
         count *= size
