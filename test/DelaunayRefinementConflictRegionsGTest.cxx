@@ -28,8 +28,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
 #include <optional>
+#include <random>
 #include <set>
 #include <stdexcept>
 #include <vector>
