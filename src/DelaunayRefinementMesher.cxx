@@ -47,6 +47,7 @@
 #include "DelaunayRefinementSizing.h"
 #include "DelaunayRefinementSliverPerturbation.h"
 #include "DelaunayRefinementSliverSplit.h"
+#include "DelaunayRefinementTestHooks.h"
 
 #include <algorithm>
 #include <array>
@@ -69,7 +70,7 @@ class Refiner
 {
 public:
   Refiner(const LabelOracle & oracle, const RefinementParameters & parameters, const ProgressObserver & observer,
-          TopologyRegularizer * regularizer, const LabelPartCensus * census)
+          TopologyRegularizer * regularizer, const LabelPartCensus * census, const RefinementTestHooks & hooks)
     : m_Oracle(oracle)
     , m_Parameters(parameters)
     , m_Observer(observer)
@@ -78,7 +79,7 @@ public:
     , m_State(oracle, parameters)
     , m_Sizing(parameters.surfaceSamplingDistance)
     , m_BoxProtection(m_State, parameters.surfaceSamplingDistance, m_Statistics)
-    , m_Rules(oracle, parameters, m_State, m_Sizing, m_BoxProtection.Box())
+    , m_Rules(oracle, parameters, m_State, m_Sizing, m_BoxProtection.Box(), hooks)
     , m_SliverSplit(oracle, m_State, m_BoxProtection, m_Rules, parameters.radiusEdgeBound,
                     parameters.minimumDihedralAngle)
     , m_Extraction(m_State)
@@ -999,19 +1000,44 @@ private:
 } // namespace
 } // namespace detail
 
+namespace detail
+{
+namespace
+{
+
 TetrahedralMesh
-RefineMesh(const LabelOracle & oracle, const RefinementParameters & parameters, RefinementStatistics * statistics,
-           const ProgressObserver & observer, TopologyRegularizer * regularizer, const LabelPartCensus * census)
+Refine(const LabelOracle & oracle, const RefinementParameters & parameters, RefinementStatistics * statistics,
+       const ProgressObserver & observer, TopologyRegularizer * regularizer, const LabelPartCensus * census,
+       const RefinementTestHooks & hooks)
 {
   ValidateParameters(parameters);
   RefinementStatistics localStatistics;
-  detail::Refiner      refiner(oracle, parameters, observer, regularizer, census);
+  Refiner              refiner(oracle, parameters, observer, regularizer, census, hooks);
   TetrahedralMesh      mesh = refiner.Run(localStatistics);
   if (statistics)
   {
     *statistics = localStatistics;
   }
   return mesh;
+}
+
+} // namespace
+
+TetrahedralMesh
+RefineMeshWithTestHooks(const RefinementTestHooks & hooks, const LabelOracle & oracle,
+                        const RefinementParameters & parameters, RefinementStatistics * statistics,
+                        TopologyRegularizer * regularizer, const LabelPartCensus * census)
+{
+  return Refine(oracle, parameters, statistics, {}, regularizer, census, hooks);
+}
+
+} // namespace detail
+
+TetrahedralMesh
+RefineMesh(const LabelOracle & oracle, const RefinementParameters & parameters, RefinementStatistics * statistics,
+           const ProgressObserver & observer, TopologyRegularizer * regularizer, const LabelPartCensus * census)
+{
+  return detail::Refine(oracle, parameters, statistics, observer, regularizer, census, detail::RefinementTestHooks{});
 }
 
 } // namespace delaunay_refinement

@@ -30,6 +30,7 @@
 #include "DelaunayRefinementParameters.h"
 #include "DelaunayRefinementQueue.h"
 #include "DelaunayRefinementSizing.h"
+#include "DelaunayRefinementTestHooks.h"
 
 #include <array>
 #include <cmath>
@@ -76,11 +77,13 @@ class RefinementRules
 public:
   /** `box` is the bounding box, set before the first cell is classified. */
   RefinementRules(const LabelOracle & oracle, const RefinementParameters & parameters, const MeshState & state,
-                  const LocalSampling & sizing, const AxisAlignedBox & box)
+                  const LocalSampling & sizing, const AxisAlignedBox & box,
+                  const RefinementTestHooks & hooks = RefinementTestHooks{})
     : m_Oracle(oracle)
     , m_Parameters(parameters)
     , m_Delta(parameters.surfaceSamplingDistance)
     , m_DihedralBound(parameters.minimumDihedralAngle)
+    , m_R1TieFactor(1.0 + hooks.r1TieMargin)
     , m_State(state)
     , m_Sizing(sizing)
     , m_Box(box)
@@ -114,7 +117,7 @@ public:
     {
       const SurfacePoint closest = ClosestSurfacePointTo(cache.circumcenter);
       const double       deltaAtClosest = m_Sizing.LocalDelta(closest.point);
-      if (!m_State.AnyFeatureVertexWithin(closest.point, deltaAtClosest * (1.0 + LatticeTieMargin)))
+      if (!m_State.AnyFeatureVertexWithin(closest.point, deltaAtClosest * m_R1TieFactor))
       {
         return Action{ Rule::R1, closest.point, deltaAtClosest };
       }
@@ -346,12 +349,14 @@ private:
   const RefinementParameters & m_Parameters;
   const double                 m_Delta;
   const DihedralAngleBound     m_DihedralBound;
-  const MeshState &            m_State;
-  const LocalSampling &        m_Sizing;
-  const AxisAlignedBox &       m_Box;
-  mutable Vector3              m_LastSurfaceQuery{};
-  mutable SurfacePoint         m_LastSurfacePoint{};
-  mutable bool                 m_LastSurfaceQueryValid{ false };
+  /** R1 counts a feature vertex up to this many times the local δ away as within it (1 + LatticeTieMargin). */
+  const double           m_R1TieFactor;
+  const MeshState &      m_State;
+  const LocalSampling &  m_Sizing;
+  const AxisAlignedBox & m_Box;
+  mutable Vector3        m_LastSurfaceQuery{};
+  mutable SurfacePoint   m_LastSurfacePoint{};
+  mutable bool           m_LastSurfaceQueryValid{ false };
 };
 
 } // namespace detail
