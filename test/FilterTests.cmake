@@ -75,6 +75,8 @@ if(TARGET DelaunayImageToMeshIO)
   add_executable(itkDelaunayImageToMeshFilterGTests itkDelaunayImageToMeshFilterGTest.cxx itkImageLabelSelectionGTest.cxx)
   target_link_libraries(itkDelaunayImageToMeshFilterGTests PRIVATE
     DelaunayImageToMesh DelaunayImageToMeshIO ${ITK_LIBRARIES} GTest::gtest_main)
+  # The last resort for flat tetrahedra is reached through a hook only tests use (src/DelaunayRefinementTestHooks.h).
+  target_include_directories(itkDelaunayImageToMeshFilterGTests PRIVATE ${PROJECT_SOURCE_DIR}/src)
   target_compile_definitions(itkDelaunayImageToMeshFilterGTests PRIVATE
     DelaunayImageToMesh_EXAMPLES_DATA="${DelaunayImageToMesh_EXAMPLES_DATA}"
     DelaunayImageToMesh_TEST_INPUT="${CMAKE_CURRENT_SOURCE_DIR}/Input")
