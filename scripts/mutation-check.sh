@@ -566,6 +566,13 @@
 #                                 measured along the voxel axes, are then wrong)
 #   negative-spacing-accepted     the filter meshes an image with a negative spacing (its regularisation's reach and
 #                                 finest local delta turn negative)
+#   Bugs in the last resort for flat tetrahedra (added 2026-12-04), which no test reached before: a hook only tests use
+#   takes R1's tie margin away so that a crop of the atlas phantom needs it; each caught by LatticeDelta.TheLastResort-
+#   RemovesTheFlatTetrahedraNothingElseRemoves (run by hand on the filter's GoogleTest executable):
+#   last-resort-skipped           the mesh is returned with the flat tetrahedra the edge removal left
+#   last-resort-keeps-full-spacing the last resort's moves keep all of Lemma 2's spacing (the level before it), so none
+#                                 is found and a flat tetrahedron stays
+#   last-resort-points-unlisted   the points the last resort moved below the spacing are not listed in the mesh
 # iso-values-not-carried, run on 2026-11-30 at cb6763c with DELAUNAY_MUTATION_CTEST_ARGS="-R
 # IsoSurface|HostileIso|TopologyOptions": caught by the two voxel-centre tests of IsoSurfaceRegularisation,
 # HostileIsoSurfaces OneVoxelSlit at delta = the spacing, and the randomized IsoSurfaces family.
@@ -617,7 +624,7 @@ all_mutations=(core-uses-2delta drop-smallest vertex-cap-1000 skip-interface-r3 
   cli-dimensions-unchecked
   conflict-margin-below-cache-error conflict-find-keeps-last-search conflict-33-points-accepted
   queue-removal-ignores-size queue-release-drops-entries queue-size-last-level-only cli-relabelling-unsaid
-  cli-progress-bar-overfilled)
+  cli-progress-bar-overfilled last-resort-skipped last-resort-keeps-full-spacing last-resort-points-unlisted)
 mutations=("$@")
 [ ${#mutations[@]} -gt 0 ] || mutations=("${all_mutations[@]}")
 # Paths below this directory are hashed relative to the build, so the copies share the checkout's ccache entries.
@@ -647,10 +654,10 @@ apply_mutation() {
   case $name in
     core-uses-2delta)
       mutate "$tree/src/DelaunayRefinementMesher.cxx" \
-        'detail::Refiner      refiner(oracle, parameters, observer, regularizer, census);' \
+        'return detail::Refine(oracle, parameters, statistics, observer, regularizer, census, detail::RefinementTestHooks{});' \
         'RefinementParameters mutated = parameters;
   mutated.surfaceSamplingDistance *= 2.0;
-  detail::Refiner      refiner(oracle, mutated, observer, regularizer, census);'
+  return detail::Refine(oracle, mutated, statistics, observer, regularizer, census, detail::RefinementTestHooks{});'
       ;;
     drop-smallest)
       mutate "$tree/src/DelaunayRefinementExtraction.h" \
@@ -1472,6 +1479,23 @@ apply_mutation() {
       mutate "$tree/src/DelaunayRefinementQueue.h" \
         'size += heap.Size();' \
         'size = heap.Size();'
+      ;;
+    last-resort-skipped)
+      mutate "$tree/src/DelaunayRefinementMesher.cxx" \
+        'const std::set<std::array<Vector3, 4>> left = FlatTissueTetrahedraOf(mesh);
+    if (left.empty())' \
+        'const std::set<std::array<Vector3, 4>> left = FlatTissueTetrahedraOf(mesh);
+    if (true)'
+      ;;
+    last-resort-keeps-full-spacing)
+      mutate "$tree/src/DelaunayRefinementMesher.cxx" \
+        'Perturb(cell, SliverPerturbation::Acceptance::SpacingMayBreak)' \
+        'Perturb(cell, SliverPerturbation::Acceptance::NonManifoldMayFollow)'
+      ;;
+    last-resort-points-unlisted)
+      mutate "$tree/src/DelaunayRefinementMesher.cxx" \
+        'mesh.pointsMovedBelowSpacing.push_back(point);' \
+        '(void)point;'
       ;;
     *)
       echo "mutation-check: unknown mutation $name (known: ${all_mutations[*]})" >&2
