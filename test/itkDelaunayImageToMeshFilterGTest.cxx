@@ -1448,7 +1448,7 @@ TEST(LatticeDelta, TheLastResortRemovesTheFlatTetrahedraNothingElseRemoves)
   // Were the case to stop reaching the last resort, this test would no longer test it.
   EXPECT_GT(statistics.flatTetrahedraMovedBelowSpacing, 0u);
   ASSERT_FALSE(mesh.pointsMovedBelowSpacing.empty());
-  // The sizing check above holds every edge to the finest δ of the mesh, half of δ here (a thick part was sampled
+  // The sizing check above holds every edge to the finest δ the mesh exports, below δ here (a thick part was sampled
   // more finely), so each listed point is measured by itself against every point of the mesh: it keeps
   // LastResortSpacingFraction of its δ, and the list says something: some listed point has a neighbour nearer than δ.
   bool anyNearerThanDelta = false;
