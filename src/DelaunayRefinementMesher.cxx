@@ -997,14 +997,7 @@ private:
   double                m_ProgressFraction{ 0.0 };
 };
 
-} // namespace
-} // namespace detail
-
-namespace detail
-{
-namespace
-{
-
+/** RefineMesh() with `hooks`. */
 TetrahedralMesh
 Refine(const LabelOracle & oracle, const RefinementParameters & parameters, RefinementStatistics * statistics,
        const ProgressObserver & observer, TopologyRegularizer * regularizer, const LabelPartCensus * census,

@@ -75,10 +75,10 @@ constexpr double IntersectingCircumradiusFactor = 3.0;
 class RefinementRules
 {
 public:
-  /** `box` is the bounding box, set before the first cell is classified. */
+  /** `box` is the bounding box, set before the first cell is classified. `hooks` is RefinementTestHooks{} except in the
+   * tests that reach a step no known input needs. */
   RefinementRules(const LabelOracle & oracle, const RefinementParameters & parameters, const MeshState & state,
-                  const LocalSampling & sizing, const AxisAlignedBox & box,
-                  const RefinementTestHooks & hooks = RefinementTestHooks{})
+                  const LocalSampling & sizing, const AxisAlignedBox & box, const RefinementTestHooks & hooks)
     : m_Oracle(oracle)
     , m_Parameters(parameters)
     , m_Delta(parameters.surfaceSamplingDistance)

@@ -119,7 +119,8 @@ public:
     {
       return std::nullopt;
     }
-    const dr::detail::RefinementRules rules(m_Oracle, m_Parameters, m_State, m_Sizing, m_Box);
+    const dr::detail::RefinementRules rules(
+      m_Oracle, m_Parameters, m_State, m_Sizing, m_Box, dr::detail::RefinementTestHooks{});
     return rules.FindApplicableRule(m_Cell);
   }
 
@@ -128,7 +129,8 @@ public:
   SurfaceBallThreshold(const dr::Vector3 & center, const dr::Vector3 & a, const dr::Vector3 & b,
                        const dr::Vector3 & c) const
   {
-    const dr::detail::RefinementRules rules(m_Oracle, m_Parameters, m_State, m_Sizing, m_Box);
+    const dr::detail::RefinementRules rules(
+      m_Oracle, m_Parameters, m_State, m_Sizing, m_Box, dr::detail::RefinementTestHooks{});
     return rules.SurfaceBallThreshold(center, a, b, c);
   }
 
@@ -417,7 +419,7 @@ public:
     {
       EXPECT_TRUE(m_State.InsertVertex(point, dr::VertexKind::Free, CellHandle()).has_value());
     }
-    m_Rules.emplace(m_Oracle, m_Parameters, m_State, m_Sizing, m_Box.Box());
+    m_Rules.emplace(m_Oracle, m_Parameters, m_State, m_Sizing, m_Box.Box(), dr::detail::RefinementTestHooks{});
     m_Perturbation.emplace(m_Oracle, m_Parameters, m_State, *m_Rules, m_Sizing, m_Box);
   }
   HandMadeTriangulation(const HandMadeTriangulation &) = delete;

@@ -1399,8 +1399,8 @@ ExpectLatticeDeltaGuarantees(const Meshed<FilterType> & meshed, std::size_t tiss
 // as within δ (src/DelaunayRefinementRules.h): where the face centres are δ apart to within that margin, R1 does not
 // put all four in, and where they are farther apart the smallest move of a corner keeps the spacing. So here, as on
 // every image the suites mesh, the last resort is not needed: Lemma 2 holds in full, and no point is listed as
-// moved below it (the last resort stays, as a safety net, with no case known to need it; the last test below reaches
-// it without the margin).
+// moved below it (the last resort stays, as a safety net, with no case known to need it;
+// TheLastResortRemovesTheFlatTetrahedraNothingElseRemoves reaches it without the margin).
 TEST(LatticeDelta, FlatSquaresNeedNoMoveBelowTheSpacing)
 {
   const auto meshed = MeshedAtLatticeDelta("AtlasPhantomCropWithFlatSquares.nrrd", 0.0);
@@ -1446,6 +1446,7 @@ TEST(LatticeDelta, TheLastResortRemovesTheFlatTetrahedraNothingElseRemoves)
     dr::detail::RefineMeshWithTestHooks(hooks, oracle, parameters, &statistics, &oracle, &oracle);
   ExpectLatticeDeltaGuarantees(mesh, mesh, 0.0, statistics.thickPartRounds, 9);
   // Were the case to stop reaching the last resort, this test would no longer test it.
+  EXPECT_GT(statistics.flatTetrahedraRemovedByEdgeRemoval, 0u);
   EXPECT_GT(statistics.flatTetrahedraMovedBelowSpacing, 0u);
   ASSERT_FALSE(mesh.pointsMovedBelowSpacing.empty());
   // The sizing check above holds every edge to the finest δ the mesh exports, below δ here (a thick part was sampled
