@@ -567,8 +567,9 @@
 #   negative-spacing-accepted     the filter meshes an image with a negative spacing (its regularisation's reach and
 #                                 finest local delta turn negative)
 #   Bugs in the last resort for flat tetrahedra (added 2026-12-04), which no test reached before: a hook only tests use
-#   takes R1's tie margin away so that a crop of the atlas phantom needs it; each caught by LatticeDelta.TheLastResort-
-#   RemovesTheFlatTetrahedraNothingElseRemoves (run by hand on the filter's GoogleTest executable):
+#   takes R1's tie margin away so that a crop of the atlas phantom needs it; each caught by
+#   LatticeDelta.TheLastResortRemovesTheFlatTetrahedraNothingElseRemoves (run by hand on the filter's GoogleTest
+#   executable):
 #   last-resort-skipped           the mesh is returned with the flat tetrahedra the edge removal left
 #   last-resort-keeps-full-spacing the last resort's moves keep all of Lemma 2's spacing (the level before it), so none
 #                                 is found and a flat tetrahedron stays
