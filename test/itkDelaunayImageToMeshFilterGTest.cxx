@@ -116,13 +116,19 @@ FilterFor(const TImage * image, double delta)
   return filter;
 }
 
-/** R4′'s promise, the one bound it adds: every dihedral angle at least the σ the filter ran with (to rounding). */
+/** R4′'s promise, the one bound it adds: every dihedral angle at least σ (to rounding). */
+void
+ExpectDihedralAnglesReach(const dr::TetrahedronQuality & quality, double sigma)
+{
+  EXPECT_GE(quality.minimumDihedralAngle, sigma * (1.0 - RoundingSlack)) << "sigma " << sigma;
+}
+
+/** The same for the σ the filter ran with. */
 template <typename TFilter>
 void
 ExpectDihedralAnglesReachSigma(const Meshed<TFilter> & meshed)
 {
-  const double sigma = meshed.filter->GetMinimumDihedralAngle();
-  EXPECT_GE(meshed.quality.minimumDihedralAngle, sigma * (1.0 - RoundingSlack)) << "sigma " << sigma;
+  ExpectDihedralAnglesReach(meshed.quality, meshed.filter->GetMinimumDihedralAngle());
 }
 
 /** The guarantees of docs/algorithm.md that hold for any object with ρ >= 1 and σ = 0: well-formed tetrahedra,
@@ -1323,6 +1329,12 @@ TestInputFile(const std::string & fileName)
   return std::string(DelaunayImageToMesh_TEST_INPUT) + "/" + fileName;
 }
 
+LabelImageType::Pointer
+ReadTestInputImage(const std::string & fileName)
+{
+  return itk::ReadImage<LabelImageType>(TestInputFile(fileName));
+}
+
 /** δ a hair below h/√2 for the 1 mm voxels of the bench's atlas phantom: the surface samples sit on a lattice about δ
  * apart. */
 constexpr double DeltaOnTheLattice = 0.70710678;
@@ -1331,11 +1343,8 @@ constexpr double DeltaOnTheLattice = 0.70710678;
 std::unique_ptr<Meshed<FilterType>>
 MeshedAtLatticeDelta(const std::string & fileName, double sigma)
 {
-  using ReaderType = itk::ImageFileReader<LabelImageType>;
-  auto reader = ReaderType::New();
-  reader->SetFileName(TestInputFile(fileName));
-  reader->Update();
-  const auto filter = FilterFor(reader->GetOutput(), DeltaOnTheLattice);
+  const LabelImageType::Pointer image = ReadTestInputImage(fileName);
+  const auto                    filter = FilterFor(image.GetPointer(), DeltaOnTheLattice);
   filter->SetMinimumDihedralAngle(sigma);
   return RunFilter<FilterType>(filter);
 }
@@ -1372,7 +1381,7 @@ ExpectLatticeDeltaGuarantees(const dr::TetrahedralMesh & mesh, const dr::Tetrahe
   EXPECT_EQ(unionOfTissues.nonManifoldVertices, 0u) << "the union of the tissues";
   if (sigma > 0.0)
   {
-    EXPECT_GE(quality.minimumDihedralAngle, sigma * (1.0 - RoundingSlack)) << "sigma " << sigma;
+    ExpectDihedralAnglesReach(quality, sigma);
     return;
   }
   // δ is halved once per round of the sampling of thin parts (single voxels hold a ball of diameter δ here).
@@ -1425,17 +1434,14 @@ TEST(LatticeDelta, FlatTetrahedraAndSliversAreRemovedWithTheDefaults)
 // pinches removed, labels regularised at the default scale).
 TEST(LatticeDelta, TheLastResortRemovesTheFlatTetrahedraNothingElseRemoves)
 {
-  using ReaderType = itk::ImageFileReader<LabelImageType>;
-  auto reader = ReaderType::New();
-  reader->SetFileName(TestInputFile("AtlasPhantomCropWithFlatSquares.nrrd"));
-  reader->Update();
+  const LabelImageType::Pointer image = ReadTestInputImage("AtlasPhantomCropWithFlatSquares.nrrd");
   using InterpolatorType = itk::NearestNeighborInterpolateImageFunction<LabelImageType, double>;
   auto interpolator = InterpolatorType::New();
-  interpolator->SetInputImage(reader->GetOutput());
+  interpolator->SetInputImage(image);
   itk::ImageLabelMapping mapping;
   mapping.joinDiagonalVoxels = true;
   mapping.regularizationRadius = FilterType::DefaultRegularizationScale * DeltaOnTheLattice;
-  itk::ImageLabelOracle<LabelImageType> oracle(reader->GetOutput(), interpolator, mapping);
+  itk::ImageLabelOracle<LabelImageType> oracle(image, interpolator, mapping);
   dr::RefinementParameters              parameters;
   parameters.surfaceSamplingDistance = DeltaOnTheLattice;
   parameters.minimumDihedralAngle = 0.0;
